@@ -1,0 +1,338 @@
+//! Checking one pass instance against its shader: params, bindings, resource compatibility.
+
+use super::decl::{Dispatch, PassInstanceDecl};
+use super::deps::ResourceId;
+use super::error::GraphError;
+use super::format::TextureDim;
+use super::interface::{Access, BindingKind};
+use super::load::LoadedPass;
+use super::param::ParamValue;
+use super::plan::{ParamsUniform, PlannedBinding, PlannedResource, ResourceKind};
+use super::provided::ProvidedKind;
+use super::schedule::Usage;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// A pass instance with its bindings resolved to resources.
+#[derive(Clone, Debug)]
+pub struct BoundPass {
+    pub bindings: Vec<PlannedBinding>,
+    pub params: BTreeMap<String, ParamValue>,
+    pub params_uniform: Option<ParamsUniform>,
+    pub overrides: Vec<(String, f64)>,
+    pub workgroups: [u32; 3],
+    /// One entry per resource, accesses merged over its bindings.
+    pub uses: Vec<(ResourceId, Access)>,
+    pub usages: Vec<(ResourceId, Usage)>,
+}
+
+/// Checks that a pass file's params match its shader: every `params` field and every
+/// `override` without default is a declared param of the same type, and every param is used.
+pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
+    let declared = &pass.decl.params;
+    let shader = &pass.shader.path;
+    let wrong_type = |param: &str, expected: String, found: &ParamValue| GraphError::ParamType {
+        file: pass.file.clone(),
+        pass: pass
+            .file
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into()),
+        param: param.to_string(),
+        expected,
+        found: found.ty().to_string(),
+        expected_where: format!("the shader {}", shader.display()),
+    };
+    for field in pass.interface.params.iter().flat_map(|b| &b.fields) {
+        let Some(value) = declared.get(&field.name) else {
+            return Err(GraphError::UndeclaredUniformField {
+                pass_file: pass.file.clone(),
+                shader: shader.clone(),
+                field: field.name.clone(),
+            });
+        };
+        if value.ty() != field.ty {
+            return Err(wrong_type(&field.name, field.ty.to_string(), value));
+        }
+    }
+    for o in &pass.interface.overrides {
+        match declared.get(&o.name) {
+            Some(value) if value.ty() != o.ty => {
+                return Err(wrong_type(&o.name, o.ty.to_string(), value));
+            }
+            None if !o.has_default => {
+                return Err(GraphError::OverrideWithoutValue {
+                    pass_file: pass.file.clone(),
+                    shader: shader.clone(),
+                    name: o.name.clone(),
+                });
+            }
+            _ => {}
+        }
+    }
+    let field_names: Vec<&str> = pass
+        .interface
+        .params
+        .iter()
+        .flat_map(|b| &b.fields)
+        .map(|f| f.name.as_str())
+        .collect();
+    for name in declared.keys() {
+        let is_override = pass.interface.overrides.iter().any(|o| &o.name == name);
+        if !is_override && !field_names.contains(&name.as_str()) {
+            return Err(GraphError::UnusedParam {
+                pass_file: pass.file.clone(),
+                shader: shader.clone(),
+                param: name.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Resolves one instance: param overrides, each shader binding to a compatible resource.
+pub fn bind_instance(
+    graph_file: &Path,
+    instance: &PassInstanceDecl,
+    pass: &LoadedPass,
+    resources: &[PlannedResource],
+    output_size: [u32; 2],
+) -> Result<BoundPass, GraphError> {
+    let params = resolve_params(graph_file, instance, pass)?;
+    let shader = &pass.interface;
+    let mut bindings = Vec::new();
+    for b in &shader.bindings {
+        let Some(resource_name) = instance.bind.get(&b.name) else {
+            return Err(GraphError::Unbound {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                binding: b.name.clone(),
+                kind: b.kind.to_string(),
+                shader: pass.shader.path.clone(),
+            });
+        };
+        let Some(id) = resources.iter().position(|r| &r.name == resource_name) else {
+            return Err(GraphError::UnknownResource {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                binding: b.name.clone(),
+                resource: resource_name.clone(),
+                known: resources.iter().map(|r| r.name.clone()).collect(),
+            });
+        };
+        if let Err(reason) = compatible(&b.kind, &resources[id]) {
+            return Err(GraphError::BindingMismatch {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                binding: b.name.clone(),
+                resource: resource_name.clone(),
+                reason,
+            });
+        }
+        bindings.push(PlannedBinding {
+            name: b.name.clone(),
+            group: b.group,
+            binding: b.binding,
+            kind: b.kind.clone(),
+            resource: id,
+        });
+    }
+    if let Some(extra) = instance
+        .bind
+        .keys()
+        .find(|k| !shader.bindings.iter().any(|b| &b.name == *k))
+    {
+        return Err(GraphError::NoSuchBinding {
+            graph: graph_file.to_path_buf(),
+            pass: instance.name.clone(),
+            binding: extra.clone(),
+            shader: pass.shader.path.clone(),
+            available: shader.bindings.iter().map(|b| b.name.clone()).collect(),
+        });
+    }
+    let (uses, usages) = merge_uses(graph_file, &instance.name, &bindings, resources)?;
+    let params_uniform = shader.params.as_ref().map(|block| {
+        let mut bytes = vec![0u8; block.size as usize];
+        for f in &block.fields {
+            let value = params[&f.name].to_le_bytes();
+            let at = f.offset as usize;
+            bytes[at..at + value.len()].copy_from_slice(&value);
+        }
+        ParamsUniform {
+            group: block.group,
+            binding: block.binding,
+            bytes,
+        }
+    });
+    let overrides = shader
+        .overrides
+        .iter()
+        .filter_map(|o| Some((o.name.clone(), params.get(&o.name)?.as_override()?)))
+        .collect();
+    let workgroups = match pass.decl.dispatch {
+        Dispatch::PerPixel => {
+            let [wx, wy, _] = shader.workgroup_size;
+            [
+                output_size[0].div_ceil(wx.max(1)),
+                output_size[1].div_ceil(wy.max(1)),
+                1,
+            ]
+        }
+        Dispatch::Workgroups(x, y, z) => [x, y, z],
+    };
+    Ok(BoundPass {
+        bindings,
+        params,
+        params_uniform,
+        overrides,
+        workgroups,
+        uses,
+        usages,
+    })
+}
+
+fn resolve_params(
+    graph_file: &Path,
+    instance: &PassInstanceDecl,
+    pass: &LoadedPass,
+) -> Result<BTreeMap<String, ParamValue>, GraphError> {
+    let mut params = pass.decl.params.clone();
+    for (name, value) in &instance.params {
+        let Some(default) = params.get_mut(name) else {
+            return Err(GraphError::UnknownParam {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                pass_file: pass.file.clone(),
+                param: name.clone(),
+                known: pass.decl.params.keys().cloned().collect(),
+            });
+        };
+        if default.ty() != value.ty() {
+            return Err(GraphError::ParamType {
+                file: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                param: name.clone(),
+                expected: default.ty().to_string(),
+                found: value.ty().to_string(),
+                expected_where: pass.file.display().to_string(),
+            });
+        }
+        *default = value.clone();
+    }
+    Ok(params)
+}
+
+/// Whether a shader binding can use a resource; `Err` says why not.
+fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), String> {
+    let name = &resource.name;
+    match (&resource.kind, kind) {
+        (ResourceKind::Provided(p), _) => match (p, kind) {
+            (ProvidedKind::Uniform, BindingKind::Uniform { .. }) => Ok(()),
+            (
+                ProvidedKind::StorageBuffer,
+                BindingKind::Storage {
+                    access: Access::Read,
+                    ..
+                },
+            ) => Ok(()),
+            (ProvidedKind::StorageBuffer, BindingKind::Storage { .. }) => Err(format!(
+                "'{name}' is provided by the framework and read-only; declare the binding var<storage, read>"
+            )),
+            (ProvidedKind::Uniform, _) => Err(format!(
+                "'{name}' is a uniform block provided by the framework; declare the binding var<uniform>, not {kind}"
+            )),
+            (ProvidedKind::StorageBuffer, _) => Err(format!(
+                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read>, not {kind}"
+            )),
+        },
+        (ResourceKind::Buffer { .. }, BindingKind::StorageTexture { .. })
+        | (ResourceKind::Buffer { .. }, BindingKind::SampledTexture { .. }) => Err(format!(
+            "the shader declares {kind}, a texture, but '{name}' is a buffer"
+        )),
+        (ResourceKind::Texture { .. }, BindingKind::Uniform { .. })
+        | (ResourceKind::Texture { .. }, BindingKind::Storage { .. }) => Err(format!(
+            "the shader declares {kind}, a buffer, but '{name}' is a texture"
+        )),
+        (ResourceKind::Buffer { size }, BindingKind::Uniform { size: need })
+        | (ResourceKind::Buffer { size }, BindingKind::Storage { min_size: need, .. }) => {
+            if size < need {
+                Err(format!(
+                    "'{name}' is {size} bytes but the shader's {kind} needs at least {need}"
+                ))
+            } else {
+                Ok(())
+            }
+        }
+        (
+            ResourceKind::Texture { format, layers, .. },
+            BindingKind::StorageTexture {
+                format: want, dim, ..
+            },
+        ) => {
+            if format != want {
+                return Err(format!(
+                    "the shader declares {kind} but '{name}' has format {format}"
+                ));
+            }
+            check_dim(*dim, *layers, name, kind)
+        }
+        (
+            ResourceKind::Texture { format, layers, .. },
+            BindingKind::SampledTexture { sample, dim },
+        ) => {
+            if format.sample_kind() != *sample {
+                return Err(format!(
+                    "the shader declares {kind} but '{name}' has format {format}, which reads as {}",
+                    format.sample_kind()
+                ));
+            }
+            check_dim(*dim, *layers, name, kind)
+        }
+    }
+}
+
+fn check_dim(dim: TextureDim, layers: u32, name: &str, kind: &BindingKind) -> Result<(), String> {
+    if dim == TextureDim::D2 && layers != 1 {
+        Err(format!(
+            "the shader declares {kind} (one layer) but '{name}' has {layers} layers; declare a 2d_array binding"
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// Merges bindings per resource. A resource bound twice must only be read: a write through one
+/// binding with another binding of the same resource is a data race within the dispatch.
+#[allow(clippy::type_complexity)]
+fn merge_uses(
+    graph_file: &Path,
+    pass: &str,
+    bindings: &[PlannedBinding],
+    resources: &[PlannedResource],
+) -> Result<(Vec<(ResourceId, Access)>, Vec<(ResourceId, Usage)>), GraphError> {
+    let mut by_resource: BTreeMap<ResourceId, Vec<&PlannedBinding>> = BTreeMap::new();
+    for b in bindings {
+        by_resource.entry(b.resource).or_default().push(b);
+    }
+    let mut uses = Vec::new();
+    let mut usages = Vec::new();
+    for (r, bs) in by_resource {
+        let writes = bs.iter().any(|b| b.kind.access().writes());
+        if writes && bs.len() > 1 {
+            return Err(GraphError::ConflictingUsage {
+                graph: graph_file.to_path_buf(),
+                pass: pass.to_string(),
+                resource: resources[r].name.clone(),
+                bindings: bs.iter().map(|b| b.name.clone()).collect(),
+            });
+        }
+        let access = bs[0].kind.access();
+        uses.push((r, access));
+        for b in bs {
+            let u = Usage::of(&b.kind);
+            if !usages.contains(&(r, u)) {
+                usages.push((r, u));
+            }
+        }
+    }
+    Ok((uses, usages))
+}

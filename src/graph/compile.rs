@@ -1,0 +1,393 @@
+//! Compiling a loaded graph to a `Plan`: validation, dependencies, culling, stages, barriers,
+//! lifetimes and reuse. No GPU involved.
+
+use super::bind::{BoundPass, bind_instance, check_pass_params};
+use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
+use super::deps::ResourceId;
+use super::deps::{Dependencies, DependencyError, PassUse, ReadSource};
+use super::error::GraphError;
+use super::lifetime::{Lifetime, LogicalResource, allocate};
+use super::load::{LoadedGraph, load_graph};
+use super::plan::{
+    CulledPass, PhysicalResource, Plan, PlannedEdge, PlannedPass, PlannedResource, ResourceKind,
+};
+use super::provided::PROVIDED;
+use super::schedule::{Schedule, schedule};
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// Loads and compiles a graph file for an output of `output_size` pixels.
+pub fn compile_file(path: &Path, output_size: [u32; 2]) -> Result<Plan, GraphError> {
+    compile(&load_graph(path)?, output_size)
+}
+
+pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, GraphError> {
+    let file = graph.file.as_path();
+    let decl = &graph.decl;
+    check_unique_names(file, decl)?;
+    for pass in graph.passes.values() {
+        check_pass_params(pass)?;
+    }
+    let mut resources = resolve_resources(file, decl, output_size)?;
+    let outputs = resolve_outputs(file, decl, &mut resources)?;
+
+    let bound = decl
+        .passes
+        .iter()
+        .map(|instance| {
+            let pass = &graph.passes[&instance.pass];
+            bind_instance(file, instance, pass, &resources, output_size)
+        })
+        .collect::<Result<Vec<BoundPass>, _>>()?;
+
+    let is_persistent = |r: ResourceId| resources[r].persistent;
+    let uses: Vec<Vec<PassUse>> = bound.iter().map(pass_uses).collect();
+    let usages: Vec<_> = bound.iter().map(|b| b.usages.clone()).collect();
+    let schedule = schedule(&uses, &usages, is_persistent, &outputs).map_err(|e| {
+        let name = |p: usize| decl.passes[p].name.clone();
+        let res = |r: ResourceId| resources[r].name.clone();
+        match e {
+            DependencyError::ReadBeforeWrite {
+                pass,
+                resource,
+                later_writer,
+            } => GraphError::ReadBeforeWrite {
+                graph: file.to_path_buf(),
+                pass: name(pass),
+                binding: bound[pass]
+                    .bindings
+                    .iter()
+                    .find(|b| b.resource == resource)
+                    .map_or(String::new(), |b| b.name.clone()),
+                resource: res(resource),
+                later_writer: later_writer.map(name),
+            },
+            DependencyError::Cycle { passes, via } => GraphError::Cycle {
+                graph: file.to_path_buf(),
+                passes: passes.into_iter().map(name).collect(),
+                via: via.into_iter().map(res).collect(),
+            },
+        }
+    })?;
+    if let Some(&r) = outputs
+        .iter()
+        .find(|r| !schedule.all.final_writer.contains_key(r))
+    {
+        return Err(GraphError::OutputNotWritten {
+            graph: file.to_path_buf(),
+            output: resources[r].name.clone(),
+        });
+    }
+    let Schedule {
+        all,
+        alive,
+        kept,
+        deps,
+        levels,
+        stages,
+        barriers,
+        ..
+    } = schedule;
+
+    let last_stage = stages.len().saturating_sub(1);
+    for (k, &p) in kept.iter().enumerate() {
+        for &(r, _) in &bound[p].uses {
+            let l = &mut resources[r].lifetime;
+            *l = Some(l.map_or(
+                Lifetime {
+                    first_stage: levels[k],
+                    last_stage: levels[k],
+                },
+                |l| l.extend(levels[k]),
+            ));
+        }
+    }
+    for r in resources.iter_mut() {
+        r.lifetime = r.lifetime.map(|l| {
+            if r.persistent {
+                // Persistent content lives across frames: the whole frame.
+                l.extend(0).extend(last_stage)
+            } else if r.output {
+                // Outputs are read back after the last stage.
+                l.extend(last_stage)
+            } else {
+                l
+            }
+        });
+    }
+    let physical = allocate_physical(&mut resources, &kept, &bound);
+
+    let edges = deps
+        .graph
+        .edge_indices()
+        .filter_map(|e| {
+            let (from, to) = deps.graph.edge_endpoints(e)?;
+            let d = deps.graph[e];
+            Some(PlannedEdge {
+                from: from.index(),
+                to: to.index(),
+                resource: d.resource,
+                hazard: d.hazard,
+            })
+        })
+        .collect();
+    let culled = (0..bound.len())
+        .filter(|&p| !alive[p])
+        .map(|p| CulledPass {
+            name: decl.passes[p].name.clone(),
+            reason: cull_reason(p, &uses, &all, decl, &resources),
+            uses: bound[p].uses.clone(),
+        })
+        .collect();
+    let passes = kept
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let instance = &decl.passes[p];
+            let pass = &graph.passes[&instance.pass];
+            let b = &bound[p];
+            PlannedPass {
+                name: instance.name.clone(),
+                pass_file: pass.file.clone(),
+                shader: pass.shader.clone(),
+                entry: pass.decl.entry.clone(),
+                stage: levels[k],
+                workgroups: b.workgroups,
+                bindings: b.bindings.clone(),
+                params: b.params.clone(),
+                params_uniform: b.params_uniform.clone(),
+                overrides: b.overrides.clone(),
+                uses: b.uses.clone(),
+            }
+        })
+        .collect();
+    Ok(Plan {
+        graph: file.to_path_buf(),
+        output_size,
+        resources,
+        physical,
+        passes,
+        stages,
+        barriers,
+        edges,
+        culled,
+    })
+}
+
+fn pass_uses(b: &BoundPass) -> Vec<PassUse> {
+    b.uses
+        .iter()
+        .map(|&(resource, access)| PassUse { resource, access })
+        .collect()
+}
+
+fn check_unique_names(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
+    let mut seen = BTreeSet::new();
+    for p in &decl.passes {
+        if !seen.insert(p.name.as_str()) {
+            return Err(GraphError::DuplicatePassName {
+                graph: file.to_path_buf(),
+                name: p.name.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Declared resources (sized for this output) followed by every provided resource.
+fn resolve_resources(
+    file: &Path,
+    decl: &GraphDecl,
+    [width, height]: [u32; 2],
+) -> Result<Vec<PlannedResource>, GraphError> {
+    let invalid = |name: &str, reason: String| GraphError::InvalidResource {
+        graph: file.to_path_buf(),
+        resource: name.to_string(),
+        reason,
+    };
+    let mut out = Vec::new();
+    for (name, r) in &decl.resources {
+        if PROVIDED.iter().any(|p| p.name == name) {
+            return Err(invalid(
+                name,
+                "this name is provided by the framework; bind it without declaring it".into(),
+            ));
+        }
+        let kind = match *r {
+            ResourceDecl::Texture {
+                format,
+                size,
+                layers,
+                ..
+            } => {
+                if layers == 0 {
+                    return Err(invalid(name, "layers must be at least 1".into()));
+                }
+                let (w, h) = match size {
+                    TextureSize::Output => (width, height),
+                    TextureSize::Scaled(s) if s.is_finite() && s > 0.0 => (
+                        ((width as f32 * s).round() as u32).max(1),
+                        ((height as f32 * s).round() as u32).max(1),
+                    ),
+                    TextureSize::Scaled(s) => {
+                        return Err(invalid(name, format!("Scaled({s}) must be positive")));
+                    }
+                    TextureSize::Absolute(w, h) if w > 0 && h > 0 => (w, h),
+                    TextureSize::Absolute(w, h) => {
+                        return Err(invalid(name, format!("Absolute({w}, {h}) has a zero side")));
+                    }
+                };
+                ResourceKind::Texture {
+                    format,
+                    width: w,
+                    height: h,
+                    layers,
+                }
+            }
+            ResourceDecl::Buffer { size, .. } => {
+                let bytes = match size {
+                    BufferSize::Bytes(b) => b,
+                    BufferSize::PerPixel(b) => b * u64::from(width) * u64::from(height),
+                };
+                if bytes == 0 || bytes % 4 != 0 {
+                    return Err(invalid(
+                        name,
+                        format!("buffer size {bytes} must be a positive multiple of 4 bytes"),
+                    ));
+                }
+                ResourceKind::Buffer { size: bytes }
+            }
+        };
+        out.push(PlannedResource {
+            name: name.clone(),
+            kind,
+            persistent: r.persistent(),
+            output: false,
+            lifetime: None,
+            physical: None,
+        });
+    }
+    out.extend(PROVIDED.iter().map(|p| PlannedResource {
+        name: p.name.to_string(),
+        kind: ResourceKind::Provided(p.kind),
+        // Provided content exists before the frame, like a persistent resource's.
+        persistent: true,
+        output: false,
+        lifetime: None,
+        physical: None,
+    }));
+    Ok(out)
+}
+
+fn resolve_outputs(
+    file: &Path,
+    decl: &GraphDecl,
+    resources: &mut [PlannedResource],
+) -> Result<Vec<ResourceId>, GraphError> {
+    let mut ids = Vec::new();
+    for output in &decl.outputs {
+        let found = resources
+            .iter()
+            .position(|r| &r.name == output && !matches!(r.kind, ResourceKind::Provided(_)));
+        let Some(id) = found else {
+            return Err(GraphError::UnknownOutput {
+                graph: file.to_path_buf(),
+                output: output.clone(),
+                known: decl.resources.keys().cloned().collect(),
+            });
+        };
+        resources[id].output = true;
+        ids.push(id);
+    }
+    Ok(ids)
+}
+
+fn allocate_physical(
+    resources: &mut [PlannedResource],
+    kept: &[usize],
+    bound: &[BoundPass],
+) -> Vec<PhysicalResource> {
+    let graph_owned = |r: &PlannedResource| !matches!(r.kind, ResourceKind::Provided(_));
+    let logical: Vec<LogicalResource<ResourceKind>> = resources
+        .iter()
+        .map(|r| LogicalResource {
+            descriptor: r.kind.clone(),
+            lifetime: r.lifetime.filter(|_| graph_owned(r)),
+            shareable: !r.persistent && !r.output,
+        })
+        .collect();
+    let allocation = allocate(&logical);
+    let mut physical: Vec<PhysicalResource> = allocation
+        .physical
+        .into_iter()
+        .map(|kind| PhysicalResource {
+            kind,
+            usages: Vec::new(),
+            users: Vec::new(),
+        })
+        .collect();
+    for (r, slot) in allocation.physical_of.iter().enumerate() {
+        resources[r].physical = *slot;
+        if let Some(s) = *slot {
+            physical[s].users.push(r);
+        }
+    }
+    for &p in kept {
+        for &(r, usage) in &bound[p].usages {
+            if let Some(s) = resources[r].physical {
+                if !physical[s].usages.contains(&usage) {
+                    physical[s].usages.push(usage);
+                    physical[s].usages.sort();
+                }
+            }
+        }
+    }
+    physical
+}
+
+/// Why pass `p` was culled, resource by resource: what became of each version it wrote.
+fn cull_reason(
+    p: usize,
+    uses: &[Vec<PassUse>],
+    all: &Dependencies,
+    decl: &GraphDecl,
+    resources: &[PlannedResource],
+) -> String {
+    let written: Vec<ResourceId> = uses[p]
+        .iter()
+        .filter(|u| u.access.writes())
+        .map(|u| u.resource)
+        .collect();
+    if written.is_empty() {
+        return "it writes nothing".to_string();
+    }
+    let name = |q: usize| format!("'{}'", decl.passes[q].name);
+    let reasons: Vec<String> = written
+        .iter()
+        .map(|&r| {
+            let resource = &resources[r].name;
+            let readers: Vec<usize> = (0..all.reads.len())
+                .filter(|&q| all.reads[q].contains(&(r, ReadSource::Pass(p))))
+                .collect();
+            let overwriter = (p + 1..uses.len())
+                .find(|&q| uses[q].iter().any(|u| u.resource == r && u.access.writes()));
+            if !readers.is_empty() {
+                let names: Vec<String> = readers.into_iter().map(name).collect();
+                format!(
+                    "'{resource}' is read only by culled passes ({})",
+                    names.join(", ")
+                )
+            } else if let Some(q) = overwriter {
+                format!(
+                    "'{resource}' is overwritten by {} before anything reads it",
+                    name(q)
+                )
+            } else if resources[r].persistent {
+                format!("'{resource}' is persistent, but no kept pass reads it next frame")
+            } else {
+                format!("nothing reads '{resource}' and it is not an output")
+            }
+        })
+        .collect();
+    reasons.join("; ")
+}

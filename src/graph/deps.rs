@@ -1,0 +1,264 @@
+//! Dependencies between passes from their reads and writes in program order.
+//!
+//! Pure data over indices, so the scheduling rules can be tested (and property-tested) without
+//! shaders or files. Each write makes a new version of a resource; a read sees the latest version.
+
+use super::interface::Access;
+use petgraph::graph::{DiGraph, NodeIndex};
+use petgraph::visit::EdgeFiltered;
+use std::collections::BTreeMap;
+
+pub type PassId = usize;
+pub type ResourceId = usize;
+
+/// One resource a pass touches, with the union of its bindings' accesses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassUse {
+    pub resource: ResourceId,
+    pub access: Access,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Hazard {
+    ReadAfterWrite,
+    WriteAfterRead,
+    WriteAfterWrite,
+}
+
+/// An edge `from -> to`: `to` must run after `from` because of `resource`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dependency {
+    pub resource: ResourceId,
+    pub hazard: Hazard,
+}
+
+/// Which version of a resource a read sees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReadSource {
+    /// Written earlier this frame by that pass.
+    Pass(PassId),
+    /// Persistent (or provided) content from before this frame.
+    PreviousFrame,
+}
+
+#[derive(Clone, Debug)]
+pub struct Dependencies {
+    /// Node `i` is pass `i`; edges always go from an earlier to a later pass.
+    pub graph: DiGraph<PassId, Dependency>,
+    /// For each pass, each resource it reads and where that version comes from.
+    pub reads: Vec<Vec<(ResourceId, ReadSource)>>,
+    /// The last pass writing each resource this frame.
+    pub final_writer: BTreeMap<ResourceId, PassId>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum DependencyError {
+    /// A transient resource read before any write; `later_writer` is the first pass that writes it.
+    ReadBeforeWrite {
+        pass: PassId,
+        resource: ResourceId,
+        later_writer: Option<PassId>,
+    },
+    /// `passes[0]` reads what `passes[last]` writes, and that writer needs `passes[0]`'s output.
+    /// `via[i]` carries `passes[i] -> passes[i+1]` (the last: back to `passes[0]`).
+    Cycle {
+        passes: Vec<PassId>,
+        via: Vec<ResourceId>,
+    },
+}
+
+#[derive(Default)]
+struct ResourceState {
+    last_writer: Option<PassId>,
+    readers_since_write: Vec<PassId>,
+}
+
+/// Builds the dependency DAG. `persistent(r)` says whether reading `r` before any write this
+/// frame is allowed (it then reads the previous frame's content).
+pub fn dependencies(
+    uses: &[Vec<PassUse>],
+    persistent: impl Fn(ResourceId) -> bool,
+) -> Result<Dependencies, DependencyError> {
+    let mut graph = DiGraph::new();
+    for p in 0..uses.len() {
+        graph.add_node(p);
+    }
+    let mut state: BTreeMap<ResourceId, ResourceState> = BTreeMap::new();
+    let mut reads = vec![Vec::new(); uses.len()];
+    let mut first_error = None;
+    let add = |g: &mut DiGraph<PassId, Dependency>, from: PassId, to: PassId, d: Dependency| {
+        let exists = g
+            .edges_connecting(NodeIndex::new(from), NodeIndex::new(to))
+            .any(|e| e.weight().resource == d.resource);
+        if from != to && !exists {
+            g.add_edge(NodeIndex::new(from), NodeIndex::new(to), d);
+        }
+    };
+    for (p, pass_uses) in uses.iter().enumerate() {
+        for u in pass_uses {
+            let s = state.entry(u.resource).or_default();
+            if u.access.reads() {
+                match s.last_writer {
+                    Some(w) => {
+                        let dep = Dependency {
+                            resource: u.resource,
+                            hazard: Hazard::ReadAfterWrite,
+                        };
+                        add(&mut graph, w, p, dep);
+                        reads[p].push((u.resource, ReadSource::Pass(w)));
+                    }
+                    None => {
+                        if !persistent(u.resource) && first_error.is_none() {
+                            first_error = Some((p, u.resource));
+                        }
+                        reads[p].push((u.resource, ReadSource::PreviousFrame));
+                    }
+                }
+            }
+            if u.access.writes() {
+                for &r in &s.readers_since_write {
+                    let dep = Dependency {
+                        resource: u.resource,
+                        hazard: Hazard::WriteAfterRead,
+                    };
+                    add(&mut graph, r, p, dep);
+                }
+                if let Some(w) = s.last_writer {
+                    let dep = Dependency {
+                        resource: u.resource,
+                        hazard: Hazard::WriteAfterWrite,
+                    };
+                    add(&mut graph, w, p, dep);
+                }
+                s.last_writer = Some(p);
+                s.readers_since_write.clear();
+            } else {
+                s.readers_since_write.push(p);
+            }
+        }
+    }
+    if let Some((pass, resource)) = first_error {
+        return Err(read_before_write(&graph, uses, pass, resource));
+    }
+    let final_writer = state
+        .iter()
+        .filter_map(|(&r, s)| s.last_writer.map(|w| (r, w)))
+        .collect();
+    Ok(Dependencies {
+        graph,
+        reads,
+        final_writer,
+    })
+}
+
+/// Explains a read before write: a cycle if the later writer needs this pass's output
+/// (through read-after-write edges), otherwise a misordering.
+fn read_before_write(
+    graph: &DiGraph<PassId, Dependency>,
+    uses: &[Vec<PassUse>],
+    pass: PassId,
+    resource: ResourceId,
+) -> DependencyError {
+    let later_writer = (pass + 1..uses.len()).find(|&q| {
+        uses[q]
+            .iter()
+            .any(|u| u.resource == resource && u.access.writes())
+    });
+    let Some(writer) = later_writer else {
+        return DependencyError::ReadBeforeWrite {
+            pass,
+            resource,
+            later_writer,
+        };
+    };
+    let data_flow = EdgeFiltered::from_fn(graph, |e| e.weight().hazard == Hazard::ReadAfterWrite);
+    let path = petgraph::algo::astar(
+        &data_flow,
+        NodeIndex::new(pass),
+        |n| n.index() == writer,
+        |_| 1,
+        |_| 0,
+    );
+    match path {
+        Some((_, nodes)) => {
+            let passes: Vec<PassId> = nodes.iter().map(|n| n.index()).collect();
+            let mut via: Vec<ResourceId> = nodes
+                .windows(2)
+                .map(|w| {
+                    graph
+                        .edges_connecting(w[0], w[1])
+                        .find(|e| e.weight().hazard == Hazard::ReadAfterWrite)
+                        .map(|e| e.weight().resource)
+                        .unwrap_or(resource)
+                })
+                .collect();
+            via.push(resource);
+            DependencyError::Cycle { passes, via }
+        }
+        None => DependencyError::ReadBeforeWrite {
+            pass,
+            resource,
+            later_writer,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn u(resource: ResourceId, access: Access) -> PassUse {
+        PassUse { resource, access }
+    }
+
+    #[test]
+    fn read_after_write_orders_reader_after_writer() {
+        let deps = dependencies(
+            &[vec![u(0, Access::Write)], vec![u(0, Access::Read)]],
+            |_| false,
+        )
+        .unwrap();
+        assert_eq!(deps.graph.edge_count(), 1);
+        assert_eq!(deps.reads[1], vec![(0, ReadSource::Pass(0))]);
+    }
+
+    #[test]
+    fn write_after_read_keeps_the_reader_before_the_overwrite() {
+        let uses = [vec![u(0, Access::Read)], vec![u(0, Access::Write)]];
+        let deps = dependencies(&uses, |_| true).unwrap();
+        let e = deps.graph.edge_weights().next().unwrap();
+        assert_eq!(e.hazard, Hazard::WriteAfterRead);
+        assert_eq!(deps.reads[0], vec![(0, ReadSource::PreviousFrame)]);
+    }
+
+    #[test]
+    fn transient_read_before_write_names_the_later_writer() {
+        let uses = [vec![u(0, Access::Read)], vec![u(0, Access::Write)]];
+        let err = dependencies(&uses, |_| false).unwrap_err();
+        assert_eq!(
+            err,
+            DependencyError::ReadBeforeWrite {
+                pass: 0,
+                resource: 0,
+                later_writer: Some(1)
+            }
+        );
+    }
+
+    #[test]
+    fn mutual_data_dependence_is_reported_as_a_cycle() {
+        // a reads x (written by b later) and writes y; b reads y and writes x.
+        let uses = [
+            vec![u(0, Access::Read), u(1, Access::Write)],
+            vec![u(1, Access::Read), u(0, Access::Write)],
+        ];
+        let err = dependencies(&uses, |_| false).unwrap_err();
+        assert_eq!(
+            err,
+            DependencyError::Cycle {
+                passes: vec![0, 1],
+                via: vec![1, 0]
+            }
+        );
+    }
+}

@@ -1,0 +1,83 @@
+//! Graphviz output: passes as boxes clustered by stage, resources as ellipses, reads and writes
+//! as edges; culled passes dashed.
+
+use super::interface::Access;
+use super::plan::{Plan, ResourceKind};
+use std::fmt::Write;
+
+fn quote(s: &str) -> String {
+    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+}
+
+pub fn to_dot(plan: &Plan) -> String {
+    let mut out =
+        String::from("digraph passgraph {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n");
+    for (s, passes) in plan.stages.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "  subgraph cluster_stage{s} {{\n    label=\"stage {s}\";"
+        );
+        for &p in passes {
+            let name = &plan.passes[p].name;
+            let _ = writeln!(out, "    {} [shape=box];", quote(&format!("pass:{name}")));
+        }
+        out.push_str("  }\n");
+    }
+    for c in &plan.culled {
+        let _ = writeln!(
+            out,
+            "  {} [shape=box, style=dashed, color=gray, label={}];",
+            quote(&format!("pass:{}", c.name)),
+            quote(&format!("{} (culled)", c.name))
+        );
+    }
+    for (i, r) in plan.resources.iter().enumerate() {
+        let used = plan
+            .passes
+            .iter()
+            .any(|p| p.uses.iter().any(|&(u, _)| u == i))
+            || plan
+                .culled
+                .iter()
+                .any(|p| p.uses.iter().any(|&(u, _)| u == i));
+        if !used {
+            continue;
+        }
+        let shape = match r.kind {
+            ResourceKind::Provided(_) => "note",
+            _ if r.persistent => "doubleoctagon",
+            _ => "ellipse",
+        };
+        let style = if r.output { ", style=bold" } else { "" };
+        let _ = writeln!(
+            out,
+            "  {} [shape={shape}{style}, label={}];",
+            quote(&format!("res:{}", r.name)),
+            quote(&format!("{}\\n{}", r.name, r.kind))
+        );
+    }
+    let uses = plan
+        .passes
+        .iter()
+        .map(|p| (&p.name, &p.uses))
+        .chain(plan.culled.iter().map(|c| (&c.name, &c.uses)));
+    for (pass, pass_uses) in uses {
+        let p = quote(&format!("pass:{pass}"));
+        for &(r, access) in pass_uses {
+            let res = quote(&format!("res:{}", plan.resources[r].name));
+            if access.reads() {
+                let _ = writeln!(out, "  {res} -> {p};");
+            }
+            if access.writes() {
+                let color = if access == Access::ReadWrite {
+                    " [color=red]"
+                } else {
+                    ""
+                };
+                let _ = writeln!(out, "  {p} -> {res}{color};");
+            }
+        }
+    }
+    out.push_str("}\n");
+    out
+}

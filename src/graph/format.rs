@@ -1,0 +1,112 @@
+//! Texture formats and dimensions a graph can declare, independent of wgpu.
+
+use serde::Deserialize;
+use std::fmt;
+
+/// The storage-capable texture formats of WebGPU (WGSL `texel_format`), which are the formats
+/// a compute pass can write. Names follow wgpu's `TextureFormat` so RON files read naturally.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, PartialOrd, Ord)]
+pub enum TextureFormat {
+    Rgba8Unorm,
+    Rgba8Snorm,
+    Rgba8Uint,
+    Rgba8Sint,
+    Bgra8Unorm,
+    Rgba16Uint,
+    Rgba16Sint,
+    Rgba16Float,
+    R32Uint,
+    R32Sint,
+    R32Float,
+    Rg32Uint,
+    Rg32Sint,
+    Rg32Float,
+    Rgba32Uint,
+    Rgba32Sint,
+    Rgba32Float,
+}
+
+/// What a sampled-texture binding returns, which the resource's format must agree with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SampleKind {
+    Float,
+    Uint,
+    Sint,
+}
+
+impl TextureFormat {
+    pub fn bytes_per_texel(self) -> u64 {
+        use TextureFormat::*;
+        match self {
+            Rgba8Unorm | Rgba8Snorm | Rgba8Uint | Rgba8Sint | Bgra8Unorm | R32Uint | R32Sint
+            | R32Float => 4,
+            Rgba16Uint | Rgba16Sint | Rgba16Float | Rg32Uint | Rg32Sint | Rg32Float => 8,
+            Rgba32Uint | Rgba32Sint | Rgba32Float => 16,
+        }
+    }
+
+    pub fn sample_kind(self) -> SampleKind {
+        use TextureFormat::*;
+        match self {
+            Rgba8Uint | Rgba16Uint | R32Uint | Rg32Uint | Rgba32Uint => SampleKind::Uint,
+            Rgba8Sint | Rgba16Sint | R32Sint | Rg32Sint | Rgba32Sint => SampleKind::Sint,
+            _ => SampleKind::Float,
+        }
+    }
+
+    /// The WGSL spelling, used in messages so users see what to write in the shader.
+    pub fn wgsl_name(self) -> &'static str {
+        use TextureFormat::*;
+        match self {
+            Rgba8Unorm => "rgba8unorm",
+            Rgba8Snorm => "rgba8snorm",
+            Rgba8Uint => "rgba8uint",
+            Rgba8Sint => "rgba8sint",
+            Bgra8Unorm => "bgra8unorm",
+            Rgba16Uint => "rgba16uint",
+            Rgba16Sint => "rgba16sint",
+            Rgba16Float => "rgba16float",
+            R32Uint => "r32uint",
+            R32Sint => "r32sint",
+            R32Float => "r32float",
+            Rg32Uint => "rg32uint",
+            Rg32Sint => "rg32sint",
+            Rg32Float => "rg32float",
+            Rgba32Uint => "rgba32uint",
+            Rgba32Sint => "rgba32sint",
+            Rgba32Float => "rgba32float",
+        }
+    }
+}
+
+impl fmt::Display for TextureFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.wgsl_name())
+    }
+}
+
+impl fmt::Display for SampleKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SampleKind::Float => "f32",
+            SampleKind::Uint => "u32",
+            SampleKind::Sint => "i32",
+        })
+    }
+}
+
+/// The view dimensions a pass can bind. A one-layer texture may be bound as either.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TextureDim {
+    D2,
+    D2Array,
+}
+
+impl fmt::Display for TextureDim {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            TextureDim::D2 => "2d",
+            TextureDim::D2Array => "2d_array",
+        })
+    }
+}

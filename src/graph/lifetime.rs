@@ -1,0 +1,132 @@
+//! Resource lifetimes and reuse: transient resources with equal descriptors and disjoint
+//! lifetimes share one GPU object (WebGPU has no memory aliasing, so sharing is whole objects).
+
+/// The stages in which a resource is used, inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lifetime {
+    pub first_stage: usize,
+    pub last_stage: usize,
+}
+
+impl Lifetime {
+    pub fn extend(self, stage: usize) -> Lifetime {
+        Lifetime {
+            first_stage: self.first_stage.min(stage),
+            last_stage: self.last_stage.max(stage),
+        }
+    }
+}
+
+/// What the allocator needs to know about one logical resource.
+#[derive(Clone, Debug)]
+pub struct LogicalResource<D> {
+    pub descriptor: D,
+    /// `None` when no kept pass uses it: nothing is allocated.
+    pub lifetime: Option<Lifetime>,
+    /// Persistent resources and outputs keep their own object.
+    pub shareable: bool,
+}
+
+/// The physical objects to create and which one each logical resource uses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Allocation<D> {
+    pub physical_of: Vec<Option<usize>>,
+    pub physical: Vec<D>,
+}
+
+/// Greedy interval assignment in order of first use: a shareable resource takes the first
+/// free object with an equal descriptor, whose last user finished in an earlier stage.
+pub fn allocate<D: PartialEq + Clone>(resources: &[LogicalResource<D>]) -> Allocation<D> {
+    struct Slot {
+        shareable: bool,
+        busy_until: usize,
+    }
+    let mut order: Vec<usize> = (0..resources.len())
+        .filter(|&i| resources[i].lifetime.is_some())
+        .collect();
+    order.sort_by_key(|&i| (resources[i].lifetime.map(|l| l.first_stage), i));
+    let mut physical_of = vec![None; resources.len()];
+    let mut physical: Vec<D> = Vec::new();
+    let mut slots: Vec<Slot> = Vec::new();
+    for i in order {
+        let r = &resources[i];
+        let Some(life) = r.lifetime else { continue };
+        let reuse = r.shareable.then(|| {
+            (0..slots.len()).find(|&s| {
+                slots[s].shareable
+                    && slots[s].busy_until < life.first_stage
+                    && physical[s] == r.descriptor
+            })
+        });
+        let slot = match reuse.flatten() {
+            Some(s) => s,
+            None => {
+                physical.push(r.descriptor.clone());
+                slots.push(Slot {
+                    shareable: r.shareable,
+                    busy_until: 0,
+                });
+                physical.len() - 1
+            }
+        };
+        slots[slot].busy_until = life.last_stage;
+        physical_of[i] = Some(slot);
+    }
+    Allocation {
+        physical_of,
+        physical,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(desc: u32, first: usize, last: usize, shareable: bool) -> LogicalResource<u32> {
+        LogicalResource {
+            descriptor: desc,
+            lifetime: Some(Lifetime {
+                first_stage: first,
+                last_stage: last,
+            }),
+            shareable,
+        }
+    }
+
+    #[test]
+    fn disjoint_equal_transients_share_one_object() {
+        let a = allocate(&[r(7, 0, 1, true), r(7, 2, 3, true)]);
+        assert_eq!(a.physical_of, vec![Some(0), Some(0)]);
+        assert_eq!(a.physical.len(), 1);
+    }
+
+    #[test]
+    fn overlapping_lifetimes_never_share() {
+        let a = allocate(&[r(7, 0, 1, true), r(7, 1, 2, true)]);
+        assert_eq!(a.physical.len(), 2);
+    }
+
+    #[test]
+    fn different_descriptors_never_share() {
+        let a = allocate(&[r(7, 0, 0, true), r(8, 1, 1, true)]);
+        assert_eq!(a.physical.len(), 2);
+    }
+
+    #[test]
+    fn persistent_resources_are_never_shared() {
+        let a = allocate(&[r(7, 0, 0, false), r(7, 1, 1, true), r(7, 2, 2, false)]);
+        assert_eq!(a.physical_of, vec![Some(0), Some(1), Some(2)]);
+    }
+
+    #[test]
+    fn unused_resources_get_no_object() {
+        let unused = LogicalResource {
+            descriptor: 7,
+            lifetime: None,
+            shareable: true,
+        };
+        let a = allocate(&[unused]);
+        assert_eq!(a.physical_of, vec![None]);
+        assert!(a.physical.is_empty());
+    }
+}

@@ -1,0 +1,21 @@
+//! The graph compiler: pure data, no GPU. RON declarations and shader reflection in,
+//! a `Plan` of stages, barriers and resource allocations out.
+
+pub mod bind;
+pub mod compile;
+pub mod cull;
+pub mod decl;
+pub mod deps;
+pub mod dot;
+pub mod error;
+pub mod format;
+pub mod interface;
+pub mod lifetime;
+pub mod load;
+pub mod param;
+pub mod plan;
+pub mod plan_text;
+pub mod provided;
+pub mod reflect;
+pub mod schedule;
+pub mod shader_source;

@@ -1,0 +1,95 @@
+//! Typed pass parameters: declared with defaults in a pass, overridden per instance in a graph.
+
+use serde::Deserialize;
+use std::fmt;
+
+/// A parameter value as written in RON, e.g. `F32(0.5)` or `Vec3(1.0, 0.0, 0.0)`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+pub enum ParamValue {
+    F32(f32),
+    U32(u32),
+    I32(i32),
+    Bool(bool),
+    Vec2(f32, f32),
+    Vec3(f32, f32, f32),
+    Vec4(f32, f32, f32, f32),
+}
+
+/// The type of a parameter, shared by RON values, uniform fields and override constants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ParamType {
+    F32,
+    U32,
+    I32,
+    Bool,
+    Vec2,
+    Vec3,
+    Vec4,
+}
+
+impl ParamValue {
+    pub fn ty(&self) -> ParamType {
+        match self {
+            ParamValue::F32(_) => ParamType::F32,
+            ParamValue::U32(_) => ParamType::U32,
+            ParamValue::I32(_) => ParamType::I32,
+            ParamValue::Bool(_) => ParamType::Bool,
+            ParamValue::Vec2(..) => ParamType::Vec2,
+            ParamValue::Vec3(..) => ParamType::Vec3,
+            ParamValue::Vec4(..) => ParamType::Vec4,
+        }
+    }
+
+    /// Little-endian bytes as WGSL lays the value out in a uniform block.
+    pub fn to_le_bytes(&self) -> Vec<u8> {
+        let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        match *self {
+            ParamValue::F32(x) => x.to_le_bytes().to_vec(),
+            ParamValue::U32(x) => x.to_le_bytes().to_vec(),
+            ParamValue::I32(x) => x.to_le_bytes().to_vec(),
+            ParamValue::Bool(x) => u32::from(x).to_le_bytes().to_vec(),
+            ParamValue::Vec2(a, b) => floats(&[a, b]),
+            ParamValue::Vec3(a, b, c) => floats(&[a, b, c]),
+            ParamValue::Vec4(a, b, c, d) => floats(&[a, b, c, d]),
+        }
+    }
+
+    /// The value as a pipeline-override constant (WebGPU passes them all as f64).
+    pub fn as_override(&self) -> Option<f64> {
+        match *self {
+            ParamValue::F32(x) => Some(f64::from(x)),
+            ParamValue::U32(x) => Some(f64::from(x)),
+            ParamValue::I32(x) => Some(f64::from(x)),
+            ParamValue::Bool(x) => Some(if x { 1.0 } else { 0.0 }),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for ParamType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ParamType::F32 => "F32 (f32)",
+            ParamType::U32 => "U32 (u32)",
+            ParamType::I32 => "I32 (i32)",
+            ParamType::Bool => "Bool (bool)",
+            ParamType::Vec2 => "Vec2 (vec2<f32>)",
+            ParamType::Vec3 => "Vec3 (vec3<f32>)",
+            ParamType::Vec4 => "Vec4 (vec4<f32>)",
+        })
+    }
+}
+
+impl fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamValue::F32(x) => write!(f, "F32({x:?})"),
+            ParamValue::U32(x) => write!(f, "U32({x})"),
+            ParamValue::I32(x) => write!(f, "I32({x})"),
+            ParamValue::Bool(x) => write!(f, "Bool({x})"),
+            ParamValue::Vec2(a, b) => write!(f, "Vec2({a:?}, {b:?})"),
+            ParamValue::Vec3(a, b, c) => write!(f, "Vec3({a:?}, {b:?}, {c:?})"),
+            ParamValue::Vec4(a, b, c, d) => write!(f, "Vec4({a:?}, {b:?}, {c:?}, {d:?})"),
+        }
+    }
+}

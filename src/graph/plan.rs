@@ -1,0 +1,167 @@
+//! The compiled graph: what the GPU executor records and what graph tests assert on.
+
+use super::deps::{PassId, ResourceId};
+use super::format::TextureFormat;
+use super::interface::{Access, BindingKind};
+use super::lifetime::Lifetime;
+use super::param::ParamValue;
+use super::provided::ProvidedKind;
+use super::schedule::{Barrier, Usage};
+use super::shader_source::ShaderSource;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A resource's shape once the output size is known.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResourceKind {
+    Texture {
+        format: TextureFormat,
+        width: u32,
+        height: u32,
+        layers: u32,
+    },
+    Buffer {
+        size: u64,
+    },
+    /// Owned by the framework (scene data, camera, frame); sized by the scene.
+    Provided(ProvidedKind),
+}
+
+impl ResourceKind {
+    /// Bytes the graph allocates for it; provided resources are the scene's, not the graph's.
+    pub fn bytes(&self) -> u64 {
+        match *self {
+            ResourceKind::Texture {
+                format,
+                width,
+                height,
+                layers,
+            } => {
+                u64::from(width) * u64::from(height) * u64::from(layers) * format.bytes_per_texel()
+            }
+            ResourceKind::Buffer { size } => size,
+            ResourceKind::Provided(_) => 0,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedResource {
+    pub name: String,
+    pub kind: ResourceKind,
+    pub persistent: bool,
+    pub output: bool,
+    /// Stages that use it; `None` when no kept pass does.
+    pub lifetime: Option<Lifetime>,
+    /// Index into `Plan::physical`; `None` for provided or unused resources.
+    pub physical: Option<usize>,
+}
+
+/// One GPU object; several transient resources may share it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysicalResource {
+    pub kind: ResourceKind,
+    /// Every usage of every resource mapped onto it: the object's usage flags.
+    pub usages: Vec<Usage>,
+    pub users: Vec<ResourceId>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedBinding {
+    /// The shader's variable name.
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub kind: BindingKind,
+    pub resource: ResourceId,
+}
+
+/// The packed `params` uniform block of a pass instance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamsUniform {
+    pub group: u32,
+    pub binding: u32,
+    pub bytes: Vec<u8>,
+}
+
+/// A kept pass instance, ready to record.
+#[derive(Clone, Debug)]
+pub struct PlannedPass {
+    pub name: String,
+    pub pass_file: PathBuf,
+    pub shader: ShaderSource,
+    pub entry: String,
+    pub stage: usize,
+    pub workgroups: [u32; 3],
+    pub bindings: Vec<PlannedBinding>,
+    /// Every param with its final value (defaults overridden by the graph).
+    pub params: BTreeMap<String, ParamValue>,
+    pub params_uniform: Option<ParamsUniform>,
+    /// Pipeline-overridable constants set from params.
+    pub overrides: Vec<(String, f64)>,
+    /// Each resource touched, with the union of its bindings' accesses.
+    pub uses: Vec<(ResourceId, Access)>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CulledPass {
+    pub name: String,
+    pub reason: String,
+    pub uses: Vec<(ResourceId, Access)>,
+}
+
+/// A dependency between two kept passes, for display.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedEdge {
+    pub from: PassId,
+    pub to: PassId,
+    pub resource: ResourceId,
+    pub hazard: super::deps::Hazard,
+}
+
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub graph: PathBuf,
+    pub output_size: [u32; 2],
+    pub resources: Vec<PlannedResource>,
+    pub physical: Vec<PhysicalResource>,
+    /// Kept passes in program order.
+    pub passes: Vec<PlannedPass>,
+    /// Indices into `passes`; every pass of a stage may run once the previous stage is done.
+    pub stages: Vec<Vec<PassId>>,
+    pub barriers: Vec<Barrier>,
+    pub edges: Vec<PlannedEdge>,
+    pub culled: Vec<CulledPass>,
+}
+
+impl Plan {
+    pub fn pass(&self, name: &str) -> Option<&PlannedPass> {
+        self.passes.iter().find(|p| p.name == name)
+    }
+
+    pub fn resource_id(&self, name: &str) -> Option<ResourceId> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+
+    /// Pass names per stage, the shape tests and `plan` show.
+    pub fn stage_names(&self) -> Vec<Vec<&str>> {
+        self.stages
+            .iter()
+            .map(|s| s.iter().map(|&p| self.passes[p].name.as_str()).collect())
+            .collect()
+    }
+
+    /// Bytes of graph-owned resources if each had its own object.
+    pub fn bytes_without_reuse(&self) -> u64 {
+        self.resources
+            .iter()
+            .filter(|r| r.physical.is_some())
+            .map(|r| r.kind.bytes())
+            .sum()
+    }
+
+    /// Bytes actually allocated after transient reuse.
+    pub fn bytes_allocated(&self) -> u64 {
+        self.physical.iter().map(|p| p.kind.bytes()).sum()
+    }
+}

@@ -1,0 +1,159 @@
+//! The human-readable plan that `passgraph plan` prints.
+
+use super::plan::{Plan, ResourceKind};
+use super::provided::ProvidedKind;
+use super::schedule::UsageSet;
+use std::fmt::{self, Write};
+
+fn usages(set: &UsageSet) -> String {
+    set.iter()
+        .map(|u| u.to_string())
+        .collect::<Vec<_>>()
+        .join(" + ")
+}
+
+/// Bytes in binary units, to one decimal.
+pub fn human_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["B", "KiB", "MiB", "GiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
+}
+
+impl fmt::Display for ResourceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ResourceKind::Texture {
+                format,
+                width,
+                height,
+                layers,
+            } => {
+                write!(f, "texture {width}x{height}")?;
+                if *layers > 1 {
+                    write!(f, "x{layers}")?;
+                }
+                write!(f, " {format}")
+            }
+            ResourceKind::Buffer { size } => write!(f, "buffer {}", human_bytes(*size)),
+            ResourceKind::Provided(ProvidedKind::StorageBuffer) => {
+                f.write_str("provided storage buffer")
+            }
+            ResourceKind::Provided(ProvidedKind::Uniform) => f.write_str("provided uniform"),
+        }
+    }
+}
+
+impl fmt::Display for Plan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [w, h] = self.output_size;
+        writeln!(f, "plan for {} at {w}x{h}", self.graph.display())?;
+        writeln!(f, "\nstages ({}):", self.stages.len())?;
+        for (s, names) in self.stage_names().iter().enumerate() {
+            writeln!(f, "  {s}: {}", names.join(", "))?;
+        }
+
+        writeln!(f, "\npasses:")?;
+        for p in &self.passes {
+            let [x, y, z] = p.workgroups;
+            let mut line = format!(
+                "  {} (stage {}, {}, {x}x{y}x{z} workgroups)",
+                p.name,
+                p.stage,
+                p.pass_file.display()
+            );
+            if !p.params.is_empty() {
+                let params: Vec<String> =
+                    p.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                let _ = write!(line, " params: {}", params.join(", "));
+            }
+            writeln!(f, "{line}")?;
+            for b in &p.bindings {
+                writeln!(
+                    f,
+                    "      @group({}) @binding({}) {:<12} {:<40} <- {}",
+                    b.group, b.binding, b.name, b.kind, self.resources[b.resource].name
+                )?;
+            }
+        }
+
+        writeln!(f, "\nbarriers:")?;
+        if self.barriers.is_empty() {
+            writeln!(f, "  none")?;
+        }
+        for b in &self.barriers {
+            writeln!(
+                f,
+                "  before stage {}: {}: {} -> {}",
+                b.before_stage,
+                self.resources[b.resource].name,
+                usages(&b.from),
+                usages(&b.to)
+            )?;
+        }
+
+        writeln!(f, "\nculled:")?;
+        if self.culled.is_empty() {
+            writeln!(f, "  none")?;
+        }
+        for c in &self.culled {
+            writeln!(f, "  {}: {}", c.name, c.reason)?;
+        }
+
+        writeln!(f, "\nresources:")?;
+        for r in &self.resources {
+            let Some(life) = r.lifetime else {
+                if !matches!(r.kind, ResourceKind::Provided(_)) {
+                    writeln!(f, "  {:<16} {} (unused by kept passes)", r.name, r.kind)?;
+                }
+                continue;
+            };
+            let mut tags = Vec::new();
+            if r.persistent && !matches!(r.kind, ResourceKind::Provided(_)) {
+                tags.push("persistent".to_string());
+            }
+            if r.output {
+                tags.push("output".to_string());
+            }
+            if let Some(s) = r.physical {
+                tags.push(format!("object #{s}"));
+            }
+            let line = format!(
+                "  {:<16} {:<32} stages {}-{}  {}",
+                r.name,
+                r.kind.to_string(),
+                life.first_stage,
+                life.last_stage,
+                tags.join(", ")
+            );
+            writeln!(f, "{}", line.trim_end())?;
+        }
+        for (i, p) in self.physical.iter().enumerate() {
+            if p.users.len() > 1 {
+                let names: Vec<&str> = p
+                    .users
+                    .iter()
+                    .map(|&r| self.resources[r].name.as_str())
+                    .collect();
+                writeln!(f, "  object #{i} is shared by {}", names.join(", "))?;
+            }
+        }
+        let before = self.bytes_without_reuse();
+        let after = self.bytes_allocated();
+        writeln!(
+            f,
+            "\nmemory: {} without reuse, {} allocated ({} saved by reuse)",
+            human_bytes(before),
+            human_bytes(after),
+            human_bytes(before - after)
+        )
+    }
+}

@@ -1,0 +1,55 @@
+//! Resources the framework provides by well-known names, which passes bind like any other.
+
+/// How a provided resource is bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProvidedKind {
+    /// A read-only storage buffer whose size comes from the scene.
+    StorageBuffer,
+    /// A uniform block the framework fills every frame.
+    Uniform,
+}
+
+/// A well-known resource: the scene's geometry, the camera, the frame counter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Provided {
+    pub name: &'static str,
+    pub kind: ProvidedKind,
+    pub what: &'static str,
+}
+
+pub const PROVIDED: &[Provided] = &[
+    Provided {
+        name: "scene.triangles",
+        kind: ProvidedKind::StorageBuffer,
+        what: "triangles: three vertices and a material index each",
+    },
+    Provided {
+        name: "scene.materials",
+        kind: ProvidedKind::StorageBuffer,
+        what: "materials from the MTL file",
+    },
+    Provided {
+        name: "scene.lights",
+        kind: ProvidedKind::StorageBuffer,
+        what: "indices of the emissive triangles",
+    },
+    Provided {
+        name: "scene.bvh",
+        kind: ProvidedKind::StorageBuffer,
+        what: "threaded BVH nodes",
+    },
+    Provided {
+        name: "camera",
+        kind: ProvidedKind::Uniform,
+        what: "the pinhole camera",
+    },
+    Provided {
+        name: "frame",
+        kind: ProvidedKind::Uniform,
+        what: "frame index, accumulated frame count, output size, user seed",
+    },
+];
+
+pub fn provided(name: &str) -> Option<&'static Provided> {
+    PROVIDED.iter().find(|p| p.name == name)
+}

@@ -1,0 +1,1056 @@
+//! Reads a pass's shader interface with naga: which resources its entry point binds, its
+//! `params` uniform layout, its overrides and its workgroup size.
+
+use super::error::GraphError;
+use super::format::{SampleKind, TextureDim, TextureFormat};
+use super::interface::{
+    Access, BindingKind, ParamBlock, ParamField, ShaderBinding, ShaderInterface, ShaderOverride,
+};
+use super::param::ParamType;
+use super::shader_source::ShaderSource;
+use naga::common::wgsl::{ToWgsl, TypeContext};
+use naga::valid::{Capabilities, ValidationError, ValidationFlags, Validator};
+use naga::{
+    AddressSpace, Handle, ImageClass, ImageDimension, Module, Scalar, ScalarKind, ShaderStage,
+    StorageAccess, Type, TypeInner, VectorSize,
+};
+use std::error::Error as _;
+use std::ops::Range;
+use std::path::PathBuf;
+
+/// The uniform variable the framework fills from the pass's params.
+const PARAMS_NAME: &str = "params";
+
+/// Every storage format a graph resource can have, found by WGSL name.
+const SUPPORTED_FORMATS: [TextureFormat; 17] = {
+    use TextureFormat::*;
+    [
+        Rgba8Unorm,
+        Rgba8Snorm,
+        Rgba8Uint,
+        Rgba8Sint,
+        Bgra8Unorm,
+        Rgba16Uint,
+        Rgba16Sint,
+        Rgba16Float,
+        R32Uint,
+        R32Sint,
+        R32Float,
+        Rg32Uint,
+        Rg32Sint,
+        Rg32Float,
+        Rgba32Uint,
+        Rgba32Sint,
+        Rgba32Float,
+    ]
+};
+
+/// What naga may accept. Reflection should not reject shaders the device would run (wgpu
+/// validates again when the pipeline is created), and should leave unsupported bindings to this
+/// module's own, clearer errors.
+fn capabilities() -> Capabilities {
+    // Core WebGPU: what wgpu grants a device with full downlevel support and no optional
+    // features (`pack2x16float` and `quantizeToF16` need SHADER_FLOAT16_IN_FLOAT32).
+    Capabilities::default()
+        | Capabilities::SHADER_FLOAT16_IN_FLOAT32
+        // Optional WebGPU features that common native adapters have ("shader-f16" still needs
+        // `enable f16;`, "subgroups").
+        | Capabilities::SHADER_FLOAT16
+        | Capabilities::SUBGROUP
+        // Binding types the framework rejects anyway: accepting them here lets `reflect` name
+        // the binding and say why, instead of naga reporting a missing capability.
+        | Capabilities::IMMEDIATES
+        | Capabilities::STORAGE_TEXTURE_16BIT_NORM_FORMATS
+        | Capabilities::TEXTURE_ATOMIC
+        | Capabilities::TEXTURE_AND_SAMPLER_BINDING_ARRAY
+        | Capabilities::BUFFER_BINDING_ARRAY
+        | Capabilities::STORAGE_BUFFER_BINDING_ARRAY
+        | Capabilities::STORAGE_TEXTURE_BINDING_ARRAY
+}
+
+/// Parses and validates the joined source, finds the compute entry point `entry`, and returns
+/// its interface.
+pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, GraphError> {
+    let module =
+        naga::front::wgsl::parse_str(&source.code).map_err(|error| parse_error(source, &error))?;
+    let info = Validator::new(ValidationFlags::all(), capabilities())
+        .validate(&module)
+        .map_err(|error| validation_error(source, &error))?;
+
+    let unsupported = |binding: &str, reason: String| GraphError::UnsupportedBinding {
+        shader: source.path.clone(),
+        binding: binding.to_string(),
+        reason,
+    };
+
+    let Some((index, entry_point)) = module
+        .entry_points
+        .iter()
+        .enumerate()
+        .find(|(_, ep)| ep.stage == ShaderStage::Compute && ep.name == entry)
+    else {
+        return Err(GraphError::NoEntryPoint {
+            shader: source.path.clone(),
+            entry: entry.to_string(),
+            available: module
+                .entry_points
+                .iter()
+                .filter(|ep| ep.stage == ShaderStage::Compute)
+                .map(|ep| ep.name.clone())
+                .collect(),
+        });
+    };
+
+    // The framework computes dispatch sizes from the workgroup size before any override is set.
+    if entry_point.workgroup_size_overrides.is_some() {
+        return Err(unsupported(
+            "@workgroup_size",
+            format!(
+                "entry point '{entry}' sizes its workgroup with an override; \
+                 use constant expressions in @workgroup_size"
+            ),
+        ));
+    }
+
+    let uses = info.get_entry_point(index);
+    let mut bindings = Vec::new();
+    let mut params = None;
+    for (handle, var) in module.global_variables.iter() {
+        // A file may hold several entry points; only what this one touches is its interface.
+        if uses[handle].is_empty() || !is_resource(var.space) {
+            continue;
+        }
+        let name = var.name.clone().unwrap_or_else(|| format!("{handle:?}"));
+        let Some(slot) = var.binding else {
+            if var.space == AddressSpace::Immediate {
+                return Err(unsupported(
+                    &name,
+                    "immediates (push constants) are not supported: put the values in the \
+                     `params` uniform"
+                        .to_string(),
+                ));
+            }
+            return Err(unsupported(&name, "has no @group/@binding".to_string()));
+        };
+        match binding_kind(&module, var.space, var.ty, &name) {
+            Ok(Reflected::Params(fields, size)) => {
+                params = Some(ParamBlock {
+                    group: slot.group,
+                    binding: slot.binding,
+                    size,
+                    fields,
+                });
+            }
+            Ok(Reflected::Binding(kind)) => bindings.push(ShaderBinding {
+                name,
+                group: slot.group,
+                binding: slot.binding,
+                kind,
+            }),
+            Err(reason) => return Err(unsupported(&name, reason)),
+        }
+    }
+    bindings.sort_by_key(|b| (b.group, b.binding));
+
+    let mut overrides = Vec::new();
+    for (_, item) in module.overrides.iter() {
+        let Some(name) = &item.name else { continue };
+        // Pipelines set overrides by name, but WebGPU keys an `@id` override by its number.
+        if let Some(id) = item.id {
+            return Err(unsupported(
+                name,
+                format!(
+                    "override has @id({id}); remove the @id: the framework sets overrides by name"
+                ),
+            ));
+        }
+        let ty = override_type(&module.types[item.ty].inner).ok_or_else(|| {
+            unsupported(
+                name,
+                format!(
+                    "override type {} is not supported (use bool, f32, u32 or i32)",
+                    module.to_ctx().type_to_string(item.ty)
+                ),
+            )
+        })?;
+        overrides.push(ShaderOverride {
+            name: name.clone(),
+            ty,
+            has_default: item.init.is_some(),
+        });
+    }
+
+    Ok(ShaderInterface {
+        entry: entry.to_string(),
+        workgroup_size: entry_point.workgroup_size,
+        bindings,
+        params,
+        overrides,
+    })
+}
+
+/// Address spaces whose variables are bound by the pipeline rather than owned by the shader.
+fn is_resource(space: AddressSpace) -> bool {
+    matches!(
+        space,
+        AddressSpace::Uniform
+            | AddressSpace::Storage { .. }
+            | AddressSpace::Handle
+            | AddressSpace::Immediate
+    )
+}
+
+enum Reflected {
+    /// The `params` uniform: its fields and size.
+    Params(Vec<ParamField>, u32),
+    Binding(BindingKind),
+}
+
+/// Classifies one bound global, or says why the framework cannot bind it.
+fn binding_kind(
+    module: &Module,
+    space: AddressSpace,
+    ty: Handle<Type>,
+    name: &str,
+) -> Result<Reflected, String> {
+    let inner = &module.types[ty].inner;
+    let type_name = || module.to_ctx().type_to_string(ty);
+    if let TypeInner::BindingArray { .. } = inner {
+        return Err(format!(
+            "binding arrays ({}) are not supported: bind each resource separately",
+            type_name()
+        ));
+    }
+    let size = || {
+        inner
+            .try_size(module.to_ctx())
+            .ok_or_else(|| format!("type {} is too large", type_name()))
+    };
+    match space {
+        AddressSpace::Uniform if name == PARAMS_NAME => {
+            let TypeInner::Struct { members, span } = inner else {
+                return Err(format!(
+                    "the `{PARAMS_NAME}` uniform must be a struct of params, not {}",
+                    type_name()
+                ));
+            };
+            let fields = members
+                .iter()
+                .map(|member| {
+                    let field = member.name.clone().unwrap_or_default();
+                    let ty =
+                        uniform_field_type(&module.types[member.ty].inner).ok_or_else(|| {
+                            format!(
+                                "field '{field}' has type {}, which is not a param type \
+                             (use f32, u32, i32, vec2<f32>, vec3<f32> or vec4<f32>)",
+                                module.to_ctx().type_to_string(member.ty)
+                            )
+                        })?;
+                    Ok(ParamField {
+                        name: field,
+                        ty,
+                        offset: member.offset,
+                    })
+                })
+                .collect::<Result<_, String>>()?;
+            Ok(Reflected::Params(fields, *span))
+        }
+        AddressSpace::Uniform => Ok(Reflected::Binding(BindingKind::Uniform {
+            size: u64::from(size()?),
+        })),
+        AddressSpace::Storage { access } => Ok(Reflected::Binding(BindingKind::Storage {
+            access: map_access(access),
+            // For a runtime-sized array naga counts one element: the least a buffer must hold.
+            min_size: u64::from(size()?),
+        })),
+        AddressSpace::Handle => texture_kind(inner, &type_name).map(Reflected::Binding),
+        _ => Err(format!(
+            "variables in the {space:?} address space are not supported as bindings"
+        )),
+    }
+}
+
+/// Classifies a handle-space global: only 2D sampled and storage textures are supported.
+fn texture_kind(inner: &TypeInner, type_name: &dyn Fn() -> String) -> Result<BindingKind, String> {
+    let (dim, arrayed, class) = match *inner {
+        TypeInner::Image {
+            dim,
+            arrayed,
+            class,
+        } => (dim, arrayed, class),
+        TypeInner::Sampler { .. } => {
+            return Err("samplers are not supported: read textures with textureLoad".to_string());
+        }
+        TypeInner::AccelerationStructure { .. } => {
+            return Err("acceleration structures are not supported".to_string());
+        }
+        _ => {
+            return Err(format!(
+                "type {} is not supported as a binding",
+                type_name()
+            ));
+        }
+    };
+    let kind = match class {
+        ImageClass::Depth { .. } => {
+            return Err(format!(
+                "depth textures ({}) are not supported: use texture_2d<f32>",
+                type_name()
+            ));
+        }
+        ImageClass::Sampled { multi: true, .. } => {
+            return Err(format!(
+                "multisampled textures ({}) are not supported",
+                type_name()
+            ));
+        }
+        ImageClass::External => {
+            return Err("external textures are not supported".to_string());
+        }
+        ImageClass::Storage { access, .. } if access.contains(StorageAccess::ATOMIC) => {
+            return Err(format!(
+                "atomic storage textures ({}) are not supported",
+                type_name()
+            ));
+        }
+        ImageClass::Sampled { kind, multi: false } => Kind::Sampled(match kind {
+            ScalarKind::Float => SampleKind::Float,
+            ScalarKind::Uint => SampleKind::Uint,
+            ScalarKind::Sint => SampleKind::Sint,
+            ScalarKind::Bool | ScalarKind::AbstractInt | ScalarKind::AbstractFloat => {
+                return Err(format!("texture type {} is not supported", type_name()));
+            }
+        }),
+        ImageClass::Storage { format, access } => {
+            let wgsl = format.to_wgsl();
+            let format = SUPPORTED_FORMATS
+                .into_iter()
+                .find(|f| f.wgsl_name() == wgsl)
+                .ok_or_else(|| {
+                    let supported: Vec<_> =
+                        SUPPORTED_FORMATS.iter().map(|f| f.wgsl_name()).collect();
+                    format!(
+                        "storage texture format {wgsl} is not supported (supported: {})",
+                        supported.join(", ")
+                    )
+                })?;
+            Kind::Storage(format, map_access(access))
+        }
+    };
+    let dim = match (dim, arrayed) {
+        (ImageDimension::D2, false) => TextureDim::D2,
+        (ImageDimension::D2, true) => TextureDim::D2Array,
+        (other, _) => {
+            return Err(format!(
+                "{} textures ({}) are not supported: only 2d and 2d_array textures can be bound",
+                other.to_wgsl(),
+                type_name()
+            ));
+        }
+    };
+    Ok(match kind {
+        Kind::Sampled(sample) => BindingKind::SampledTexture { sample, dim },
+        Kind::Storage(format, access) => BindingKind::StorageTexture {
+            access,
+            format,
+            dim,
+        },
+    })
+}
+
+/// A texture binding before its dimension is checked.
+enum Kind {
+    Sampled(SampleKind),
+    Storage(TextureFormat, Access),
+}
+
+/// Declared access of a storage buffer or texture (not what the code happens to do with it).
+fn map_access(access: StorageAccess) -> Access {
+    match (
+        access.contains(StorageAccess::LOAD),
+        access.contains(StorageAccess::STORE),
+    ) {
+        (true, true) => Access::ReadWrite,
+        (false, true) => Access::Write,
+        _ => Access::Read,
+    }
+}
+
+fn uniform_field_type(inner: &TypeInner) -> Option<ParamType> {
+    match *inner {
+        TypeInner::Scalar(Scalar::F32) => Some(ParamType::F32),
+        TypeInner::Scalar(Scalar::U32) => Some(ParamType::U32),
+        TypeInner::Scalar(Scalar::I32) => Some(ParamType::I32),
+        TypeInner::Vector {
+            size,
+            scalar: Scalar::F32,
+        } => Some(match size {
+            VectorSize::Bi => ParamType::Vec2,
+            VectorSize::Tri => ParamType::Vec3,
+            VectorSize::Quad => ParamType::Vec4,
+        }),
+        _ => None,
+    }
+}
+
+fn override_type(inner: &TypeInner) -> Option<ParamType> {
+    match *inner {
+        TypeInner::Scalar(Scalar::BOOL) => Some(ParamType::Bool),
+        TypeInner::Scalar(Scalar::F32) => Some(ParamType::F32),
+        TypeInner::Scalar(Scalar::U32) => Some(ParamType::U32),
+        TypeInner::Scalar(Scalar::I32) => Some(ParamType::I32),
+        _ => None,
+    }
+}
+
+/// Where an error without a usable span is reported.
+fn start_of_main(source: &ShaderSource) -> (PathBuf, usize, usize) {
+    (source.path.clone(), 1, 1)
+}
+
+fn wgsl_error(location: (PathBuf, usize, usize), message: String) -> GraphError {
+    let (file, line, col) = location;
+    GraphError::Wgsl {
+        file,
+        line,
+        col,
+        message,
+    }
+}
+
+/// Whether a span label says something the message does not.
+fn adds_information(message: &str, label: &str) -> bool {
+    let label = label.trim();
+    !label.is_empty() && label != "see msg" && !message.contains(label)
+}
+
+fn parse_error(source: &ShaderSource, error: &naga::front::wgsl::ParseError) -> GraphError {
+    let mut labels = error
+        .labels()
+        .filter_map(|(span, label)| Some((span.to_range()?, label)));
+    let primary = labels.next();
+    let mut message = error.message().to_string();
+    if let Some((_, label)) = &primary {
+        if adds_information(&message, label) {
+            message.push_str(&format!(" ({})", label.trim()));
+        }
+    }
+    // Secondary labels point elsewhere, possibly into another file (e.g. the previous
+    // definition in an included library), so they carry their own location.
+    for (range, label) in labels {
+        if adds_information(&message, label) {
+            let (file, line, col) = source.locate(range.start);
+            message.push_str(&format!(
+                "; {} at {}:{line}:{col}",
+                label.trim(),
+                file.display()
+            ));
+        }
+    }
+    for note in error.notes() {
+        message.push_str(&format!("; note: {note}"));
+    }
+    let location = primary.map_or_else(
+        || start_of_main(source),
+        |(range, _)| source.locate(range.start),
+    );
+    wgsl_error(location, message)
+}
+
+fn validation_error(source: &ShaderSource, error: &naga::WithSpan<ValidationError>) -> GraphError {
+    // The top-level message only names the function or global; the cause says what is wrong.
+    let mut message = error.to_string();
+    let mut cause = error.source();
+    while let Some(inner) = cause {
+        message.push_str(&format!(": {inner}"));
+        cause = inner.source();
+    }
+    // naga lists the enclosing item's span (a whole function) before the offending
+    // expression's, so the first span that contains no other is the precise one.
+    let spans: Vec<(Range<usize>, &str)> = error
+        .spans()
+        .filter_map(|(span, label)| Some((span.to_range()?, label.as_str())))
+        .collect();
+    let innermost = spans.iter().find(|(outer, _)| {
+        !spans.iter().any(|(inner, _)| {
+            inner != outer && outer.start <= inner.start && inner.end <= outer.end
+        })
+    });
+    let location = match innermost {
+        Some((range, label)) => {
+            // Labels naming naga's IR ("naga::ir::Function [0]") mean nothing to users.
+            if !label.starts_with("naga::") && adds_information(&message, label) {
+                message.push_str(&format!(" ({})", label.trim()));
+            }
+            source.locate(range.start)
+        }
+        None => start_of_main(source),
+    };
+    wgsl_error(location, message)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::fs;
+    use std::path::Path;
+
+    fn reflect_code(code: &str, entry: &str) -> Result<ShaderInterface, GraphError> {
+        reflect(
+            &ShaderSource::from_code("test.wgsl".into(), code.to_string()),
+            entry,
+        )
+    }
+
+    fn interface(code: &str) -> ShaderInterface {
+        match reflect_code(code, "main") {
+            Ok(interface) => interface,
+            Err(e) => panic!("reflect failed: {e}"),
+        }
+    }
+
+    fn single_binding(code: &str) -> BindingKind {
+        let interface = interface(code);
+        assert_eq!(interface.bindings.len(), 1, "{:?}", interface.bindings);
+        interface.bindings[0].kind.clone()
+    }
+
+    fn unsupported_reason(code: &str) -> (String, String) {
+        match reflect_code(code, "main") {
+            Err(GraphError::UnsupportedBinding {
+                binding, reason, ..
+            }) => (binding, reason),
+            other => panic!("expected UnsupportedBinding, got {other:?}"),
+        }
+    }
+
+    fn wgsl_error_at(result: Result<ShaderInterface, GraphError>) -> (PathBuf, usize, usize) {
+        match result {
+            Err(GraphError::Wgsl {
+                file, line, col, ..
+            }) => (file, line, col),
+            other => panic!("expected Wgsl error, got {other:?}"),
+        }
+    }
+
+    fn project(files: &[(&str, &str)]) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        for (path, content) in files {
+            let path = dir.path().join(path);
+            fs::create_dir_all(path.parent().unwrap()).unwrap();
+            fs::write(path, content).unwrap();
+        }
+        dir
+    }
+
+    fn same_file(a: &Path, b: &Path) -> bool {
+        a.canonicalize().unwrap() == b.canonicalize().unwrap()
+    }
+
+    #[test]
+    fn storage_buffer_access_follows_declaration() {
+        let read = single_binding(
+            "@group(0) @binding(0) var<storage, read> buf: array<u32>;
+             @compute @workgroup_size(1) fn main() { _ = buf[0]; }",
+        );
+        assert_eq!(
+            read,
+            BindingKind::Storage {
+                access: Access::Read,
+                min_size: 4
+            }
+        );
+        // Declared read_write but only read: the declaration decides, as the pipeline layout does.
+        let read_write = single_binding(
+            "@group(0) @binding(0) var<storage, read_write> buf: array<u32>;
+             @compute @workgroup_size(1) fn main() { _ = buf[0]; }",
+        );
+        assert_eq!(read_write.access(), Access::ReadWrite);
+    }
+
+    #[test]
+    fn storage_min_size_counts_struct_with_one_runtime_element() {
+        let kind = single_binding(
+            "struct Particles { count: u32, items: array<vec4<f32>> }
+             @group(0) @binding(0) var<storage, read_write> particles: Particles;
+             @compute @workgroup_size(64) fn main() { particles.count = 1u; }",
+        );
+        // count at 0, items aligned to 16, one 16-byte element.
+        assert_eq!(
+            kind,
+            BindingKind::Storage {
+                access: Access::ReadWrite,
+                min_size: 32
+            }
+        );
+    }
+
+    #[test]
+    fn storage_min_size_of_bare_runtime_array_is_one_stride() {
+        let kind = single_binding(
+            "@group(0) @binding(0) var<storage, read> v: array<vec3<f32>>;
+             @compute @workgroup_size(1) fn main() { _ = v[0]; }",
+        );
+        assert_eq!(
+            kind,
+            BindingKind::Storage {
+                access: Access::Read,
+                min_size: 16
+            }
+        );
+    }
+
+    #[test]
+    fn uniform_other_than_params_is_a_sized_binding() {
+        let kind = single_binding(
+            "struct Camera { view: mat4x4<f32>, pos: vec3<f32> }
+             @group(0) @binding(0) var<uniform> camera: Camera;
+             @compute @workgroup_size(1) fn main() { _ = camera.pos; }",
+        );
+        assert_eq!(kind, BindingKind::Uniform { size: 80 });
+    }
+
+    #[test]
+    fn storage_texture_access_format_and_dim() {
+        let interface = interface(
+            "@group(0) @binding(0) var w: texture_storage_2d<rgba16float, write>;
+             @group(0) @binding(1) var r: texture_storage_2d_array<r32float, read>;
+             @group(0) @binding(2) var rw: texture_storage_2d<rgba8unorm, read_write>;
+             @compute @workgroup_size(8, 8) fn main() {
+                 let x = textureLoad(r, vec2(0, 0), 0);
+                 textureStore(rw, vec2(0, 0), textureLoad(rw, vec2(0, 0)));
+                 textureStore(w, vec2(0, 0), x);
+             }",
+        );
+        let kinds: Vec<_> = interface.bindings.iter().map(|b| b.kind.clone()).collect();
+        assert_eq!(
+            kinds,
+            [
+                BindingKind::StorageTexture {
+                    access: Access::Write,
+                    format: TextureFormat::Rgba16Float,
+                    dim: TextureDim::D2
+                },
+                BindingKind::StorageTexture {
+                    access: Access::Read,
+                    format: TextureFormat::R32Float,
+                    dim: TextureDim::D2Array
+                },
+                BindingKind::StorageTexture {
+                    access: Access::ReadWrite,
+                    format: TextureFormat::Rgba8Unorm,
+                    dim: TextureDim::D2
+                },
+            ]
+        );
+        assert_eq!(interface.workgroup_size, [8, 8, 1]);
+    }
+
+    #[test]
+    fn every_supported_storage_format_maps_to_the_same_texture_format() {
+        for format in SUPPORTED_FORMATS {
+            let kind = single_binding(&format!(
+                "@group(0) @binding(0) var t: texture_storage_2d<{}, write>;
+                 @compute @workgroup_size(1) fn main() {{ _ = textureDimensions(t); }}",
+                format.wgsl_name()
+            ));
+            assert_eq!(
+                kind,
+                BindingKind::StorageTexture {
+                    access: Access::Write,
+                    format,
+                    dim: TextureDim::D2
+                }
+            );
+        }
+    }
+
+    #[test]
+    fn unsupported_storage_format_is_named() {
+        let (binding, reason) = unsupported_reason(
+            "@group(0) @binding(0) var t: texture_storage_2d<r16unorm, write>;
+             @compute @workgroup_size(1) fn main() { _ = textureDimensions(t); }",
+        );
+        assert_eq!(binding, "t");
+        assert!(reason.contains("r16unorm"), "{reason}");
+    }
+
+    #[test]
+    fn sampled_texture_kind_and_dim() {
+        let interface = interface(
+            "@group(0) @binding(0) var a: texture_2d<f32>;
+             @group(0) @binding(1) var b: texture_2d<u32>;
+             @group(1) @binding(0) var c: texture_2d_array<i32>;
+             @compute @workgroup_size(1) fn main() {
+                 _ = textureLoad(a, vec2(0, 0), 0);
+                 _ = textureLoad(b, vec2(0, 0), 0);
+                 _ = textureLoad(c, vec2(0, 0), 0, 0);
+             }",
+        );
+        let kinds: Vec<_> = interface.bindings.iter().map(|b| b.kind.clone()).collect();
+        assert_eq!(
+            kinds,
+            [
+                BindingKind::SampledTexture {
+                    sample: SampleKind::Float,
+                    dim: TextureDim::D2
+                },
+                BindingKind::SampledTexture {
+                    sample: SampleKind::Uint,
+                    dim: TextureDim::D2
+                },
+                BindingKind::SampledTexture {
+                    sample: SampleKind::Sint,
+                    dim: TextureDim::D2Array
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn bindings_are_sorted_by_group_then_binding() {
+        let interface = interface(
+            "@group(1) @binding(0) var<storage, read> d: array<u32>;
+             @group(0) @binding(3) var<storage, read> c: array<u32>;
+             @group(0) @binding(1) var<storage, read> b: array<u32>;
+             @compute @workgroup_size(1) fn main() { _ = b[0]; _ = c[0]; _ = d[0]; }",
+        );
+        let slots: Vec<_> = interface
+            .bindings
+            .iter()
+            .map(|b| (b.name.as_str(), b.group, b.binding))
+            .collect();
+        assert_eq!(slots, [("b", 0, 1), ("c", 0, 3), ("d", 1, 0)]);
+    }
+
+    #[test]
+    fn params_block_fields_offsets_and_size() {
+        let interface = interface(
+            "struct Params { a: f32, b: vec3<f32>, c: u32, d: i32, e: vec2<f32>, f: vec4<f32> }
+             @group(0) @binding(2) var<uniform> params: Params;
+             @compute @workgroup_size(1) fn main() { _ = params.a; }",
+        );
+        let block = interface.params.expect("params block");
+        assert_eq!((block.group, block.binding), (0, 2));
+        let fields: Vec<_> = block
+            .fields
+            .iter()
+            .map(|f| (f.name.as_str(), f.ty, f.offset))
+            .collect();
+        assert_eq!(
+            fields,
+            [
+                ("a", ParamType::F32, 0),
+                ("b", ParamType::Vec3, 16),
+                ("c", ParamType::U32, 28),
+                ("d", ParamType::I32, 32),
+                ("e", ParamType::Vec2, 40),
+                ("f", ParamType::Vec4, 48),
+            ]
+        );
+        assert_eq!(block.size, 64);
+        // The params block is not an ordinary binding.
+        assert!(interface.bindings.is_empty());
+    }
+
+    #[test]
+    fn params_field_of_unsupported_type_is_named() {
+        let (binding, reason) = unsupported_reason(
+            "struct Params { scale: f32, m: mat4x4<f32> }
+             @group(0) @binding(0) var<uniform> params: Params;
+             @compute @workgroup_size(1) fn main() { _ = params.scale; }",
+        );
+        assert_eq!(binding, "params");
+        assert!(
+            reason.contains("'m'") && reason.contains("mat4x4<f32>"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn params_uniform_that_is_not_a_struct_is_rejected() {
+        let (binding, reason) = unsupported_reason(
+            "@group(0) @binding(0) var<uniform> params: vec4<f32>;
+             @compute @workgroup_size(1) fn main() { _ = params.x; }",
+        );
+        assert_eq!(binding, "params");
+        assert!(reason.contains("struct"), "{reason}");
+    }
+
+    #[test]
+    fn unused_globals_are_not_bindings() {
+        let interface = interface(
+            "struct Params { a: f32 }
+             @group(0) @binding(0) var<uniform> params: Params;
+             @group(0) @binding(1) var<storage, read> unused: array<u32>;
+             @group(0) @binding(2) var<storage, read_write> used: array<u32>;
+             @group(0) @binding(3) var s: sampler;
+             fn helper() { used[0] = 1u; }
+             @compute @workgroup_size(1) fn main() { helper(); }",
+        );
+        let names: Vec<_> = interface.bindings.iter().map(|b| b.name.as_str()).collect();
+        // `used` is reached through a helper function; an unused sampler is no error either.
+        assert_eq!(names, ["used"]);
+        assert_eq!(interface.params, None);
+    }
+
+    #[test]
+    fn each_entry_point_gets_only_its_own_bindings() {
+        let code = "@group(0) @binding(0) var<storage, read> input: array<f32>;
+             @group(0) @binding(1) var<storage, read_write> a: array<f32>;
+             @group(0) @binding(2) var<storage, read_write> b: array<f32>;
+             @compute @workgroup_size(64) fn first() { a[0] = input[0]; }
+             @compute @workgroup_size(8, 8) fn second() { b[0] = input[0]; }";
+        let names = |entry: &str| {
+            let interface = reflect_code(code, entry).unwrap();
+            let names: Vec<_> = interface.bindings.into_iter().map(|b| b.name).collect();
+            (names, interface.workgroup_size, interface.entry)
+        };
+        assert_eq!(
+            names("first"),
+            (vec!["input".into(), "a".into()], [64, 1, 1], "first".into())
+        );
+        assert_eq!(
+            names("second"),
+            (vec!["input".into(), "b".into()], [8, 8, 1], "second".into())
+        );
+    }
+
+    #[test]
+    fn missing_entry_point_lists_compute_entry_points_only() {
+        let result = reflect_code(
+            "@compute @workgroup_size(1) fn a() {}
+             @compute @workgroup_size(1) fn b() {}
+             @fragment fn fs() -> @location(0) vec4<f32> { return vec4(1.0); }",
+            "fs",
+        );
+        match result {
+            Err(GraphError::NoEntryPoint {
+                entry, available, ..
+            }) => {
+                assert_eq!(entry, "fs");
+                assert_eq!(available, ["a", "b"]);
+            }
+            other => panic!("expected NoEntryPoint, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn unsupported_binding_types_are_rejected_with_reason() {
+        let cases = [
+            ("var s: sampler;", "_ = s;", "sampler"),
+            (
+                "var d: texture_depth_2d;",
+                "_ = textureDimensions(d);",
+                "depth",
+            ),
+            (
+                "var m: texture_multisampled_2d<f32>;",
+                "_ = textureDimensions(m);",
+                "multisampled",
+            ),
+            ("var t: texture_3d<f32>;", "_ = textureDimensions(t);", "3d"),
+            ("var t: texture_1d<f32>;", "_ = textureDimensions(t);", "1d"),
+            (
+                "var t: texture_cube<f32>;",
+                "_ = textureDimensions(t);",
+                "cube",
+            ),
+            (
+                "var t: texture_storage_3d<rgba8unorm, write>;",
+                "_ = textureDimensions(t);",
+                "3d",
+            ),
+        ];
+        for (decl, use_, expected) in cases {
+            let code = format!(
+                "@group(0) @binding(0) {decl}\n@compute @workgroup_size(1) fn main() {{ {use_} }}"
+            );
+            let (_, reason) = unsupported_reason(&code);
+            assert!(reason.contains(expected), "{decl}: {reason}");
+        }
+    }
+
+    #[test]
+    fn binding_arrays_are_rejected_with_reason() {
+        let (binding, reason) = unsupported_reason(
+            "enable wgpu_binding_array;
+             @group(0) @binding(0) var ts: binding_array<texture_2d<f32>, 4>;
+             @compute @workgroup_size(1) fn main() { _ = textureLoad(ts[0], vec2(0, 0), 0); }",
+        );
+        assert_eq!(binding, "ts");
+        assert!(reason.contains("binding arrays"), "{reason}");
+    }
+
+    #[test]
+    fn overrides_with_types_and_defaults() {
+        let interface = interface(
+            "override enabled: bool = true;
+             override scale: f32;
+             override count: u32 = 4u;
+             override offset: i32 = -1;
+             @compute @workgroup_size(1) fn main() { _ = scale; }",
+        );
+        let overrides: Vec<_> = interface
+            .overrides
+            .iter()
+            .map(|o| (o.name.as_str(), o.ty, o.has_default))
+            .collect();
+        assert_eq!(
+            overrides,
+            [
+                ("enabled", ParamType::Bool, true),
+                ("scale", ParamType::F32, false),
+                ("count", ParamType::U32, true),
+                ("offset", ParamType::I32, true),
+            ]
+        );
+    }
+
+    #[test]
+    fn override_with_id_is_rejected_because_it_cannot_be_set_by_name() {
+        let (binding, reason) = unsupported_reason(
+            "@id(3) override scale: f32 = 1.0;
+             @compute @workgroup_size(1) fn main() { _ = scale; }",
+        );
+        assert_eq!(binding, "scale");
+        assert!(reason.contains("@id(3)"), "{reason}");
+    }
+
+    #[test]
+    fn override_sized_workgroup_is_rejected() {
+        let (binding, _) = unsupported_reason(
+            "override size: u32 = 64u;
+             @compute @workgroup_size(size) fn main() {}",
+        );
+        assert_eq!(binding, "@workgroup_size");
+    }
+
+    #[test]
+    fn const_sized_workgroup_is_accepted() {
+        let interface = interface(
+            "const SIZE = 16u;
+             @compute @workgroup_size(SIZE, SIZE / 2u) fn main() {}",
+        );
+        assert_eq!(interface.workgroup_size, [16, 8, 1]);
+    }
+
+    #[test]
+    fn parse_error_in_included_lib_reports_lib_file_and_line() {
+        let dir = project(&[
+            (
+                "shaders/lib/rng.wgsl",
+                "// rng\nfn rng(seed: u32) -> u32 {\n    let x = seed * 747796405u\n    return x;\n}\n",
+            ),
+            (
+                "shaders/passes/noise.wgsl",
+                "// noise\n#include \"lib/rng.wgsl\"\n@compute @workgroup_size(1) fn main() {}\n",
+            ),
+        ]);
+        let root = dir.path().join("shaders");
+        let source = ShaderSource::load(&root.join("passes/noise.wgsl"), &root).unwrap();
+        let (file, line, col) = wgsl_error_at(reflect(&source, "main"));
+        assert!(same_file(&file, &root.join("lib/rng.wgsl")), "{file:?}");
+        // naga points at the token after the missing `;`.
+        assert_eq!((line, col), (4, 5));
+    }
+
+    #[test]
+    fn parse_error_after_include_reports_main_file_own_line() {
+        let dir = project(&[
+            (
+                "shaders/lib/rng.wgsl",
+                "fn rng(seed: u32) -> u32 {\n    return seed * 747796405u;\n}\n",
+            ),
+            (
+                "shaders/noise.wgsl",
+                "#include \"lib/rng.wgsl\"\n\n@compute @workgroup_size(1) fn main() {\n    let x: u32 = rng(1u) +;\n}\n",
+            ),
+        ]);
+        let root = dir.path().join("shaders");
+        let main = root.join("noise.wgsl");
+        let source = ShaderSource::load(&main, &root).unwrap();
+        let (file, line, _) = wgsl_error_at(reflect(&source, "main"));
+        assert_eq!(file, main);
+        assert_eq!(line, 4);
+    }
+
+    #[test]
+    fn parse_error_message_keeps_informative_labels() {
+        let result = reflect_code(
+            "fn f() {}\nfn f() {}\n@compute @workgroup_size(1) fn main() {}",
+            "main",
+        );
+        match result {
+            Err(GraphError::Wgsl {
+                line, col, message, ..
+            }) => {
+                assert_eq!((line, col), (2, 4));
+                // The previous definition is elsewhere, so the message says where.
+                assert!(message.contains("test.wgsl:1:4"), "{message}");
+            }
+            other => panic!("expected Wgsl error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn validation_error_points_at_offending_expression_not_enclosing_function() {
+        let result = reflect_code(
+            "@group(0) @binding(0) var<storage, read> b: array<f32>;\n\
+             fn helper(i: u32) {\n\
+             \x20   b[i] = 1.0;\n\
+             }\n\
+             @compute @workgroup_size(1) fn main() { helper(0u); }",
+            "main",
+        );
+        match result {
+            Err(GraphError::Wgsl {
+                file,
+                line,
+                col,
+                message,
+            }) => {
+                assert_eq!(file, PathBuf::from("test.wgsl"));
+                assert_eq!((line, col), (3, 5));
+                // The cause, not just "Function 'helper' is invalid".
+                assert!(message.contains("store"), "{message}");
+            }
+            other => panic!("expected Wgsl error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn validation_error_in_included_lib_reports_lib_file() {
+        let dir = project(&[
+            (
+                "shaders/lib/layout.wgsl",
+                "// layout\n@group(0) @binding(0) var<uniform> weights: array<f32, 4>;\n",
+            ),
+            (
+                "shaders/p.wgsl",
+                "#include \"lib/layout.wgsl\"\n@compute @workgroup_size(1) fn main() { _ = weights[0]; }\n",
+            ),
+        ]);
+        let root = dir.path().join("shaders");
+        let source = ShaderSource::load(&root.join("p.wgsl"), &root).unwrap();
+        let (file, line, _) = wgsl_error_at(reflect(&source, "main"));
+        assert!(same_file(&file, &root.join("lib/layout.wgsl")), "{file:?}");
+        assert_eq!(line, 2);
+    }
+
+    #[test]
+    fn validation_error_without_span_points_at_start_of_main_file() {
+        // f64 needs a native feature; naga reports the type without a span.
+        let location = wgsl_error_at(reflect_code(
+            "\n@compute @workgroup_size(1) fn main() { var x: f64 = 1.0lf; }",
+            "main",
+        ));
+        assert_eq!(location, (PathBuf::from("test.wgsl"), 1, 1));
+    }
+
+    #[test]
+    fn core_wgsl_builtins_needing_capabilities_validate() {
+        // pack2x16float is core WGSL but needs SHADER_FLOAT16_IN_FLOAT32 in naga.
+        interface("@compute @workgroup_size(1) fn main() { _ = pack2x16float(vec2(1.0)); }");
+    }
+}

@@ -1,0 +1,209 @@
+//! Stages (passes at the same dependency level, free of hazards between them) and the
+//! barriers between stages.
+
+use super::cull::alive_passes;
+use super::deps::{Dependencies, DependencyError, PassId, PassUse, ResourceId, dependencies};
+use super::interface::BindingKind;
+use petgraph::Direction;
+use petgraph::graph::{DiGraph, NodeIndex};
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// How a resource is used by a binding; a barrier is needed when this changes or writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Usage {
+    Uniform,
+    Sampled,
+    StorageRead,
+    StorageWrite,
+    StorageReadWrite,
+}
+
+impl Usage {
+    pub fn of(kind: &BindingKind) -> Usage {
+        use super::interface::Access;
+        match kind {
+            BindingKind::Uniform { .. } => Usage::Uniform,
+            BindingKind::SampledTexture { .. } => Usage::Sampled,
+            BindingKind::Storage { access, .. } | BindingKind::StorageTexture { access, .. } => {
+                match access {
+                    Access::Read => Usage::StorageRead,
+                    Access::Write => Usage::StorageWrite,
+                    Access::ReadWrite => Usage::StorageReadWrite,
+                }
+            }
+        }
+    }
+
+    pub fn writes(self) -> bool {
+        matches!(self, Usage::StorageWrite | Usage::StorageReadWrite)
+    }
+}
+
+impl fmt::Display for Usage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Usage::Uniform => "uniform",
+            Usage::Sampled => "sampled",
+            Usage::StorageRead => "storage read",
+            Usage::StorageWrite => "storage write",
+            Usage::StorageReadWrite => "storage read_write",
+        })
+    }
+}
+
+/// The usages of one resource within one stage (several only when all are reads).
+pub type UsageSet = Vec<Usage>;
+
+/// A transition before `before_stage`: `resource` was last used as `from`, now as `to`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Barrier {
+    pub before_stage: usize,
+    pub resource: ResourceId,
+    pub from: UsageSet,
+    pub to: UsageSet,
+}
+
+/// The whole scheduling of one frame, over pass and resource indices.
+#[derive(Clone, Debug)]
+pub struct Schedule {
+    /// Dependencies among all passes (before culling).
+    pub all: Dependencies,
+    /// `alive[p]`: pass `p` contributes to an output.
+    pub alive: Vec<bool>,
+    /// Kept passes in program order; the indices below refer to positions in this list.
+    pub kept: Vec<PassId>,
+    /// Dependencies among kept passes only.
+    pub deps: Dependencies,
+    pub levels: Vec<usize>,
+    pub stages: Vec<Vec<usize>>,
+    pub barriers: Vec<Barrier>,
+}
+
+/// Dependencies, culling, stages and barriers. `usages[p]` are pass `p`'s (resource, usage)
+/// pairs, `persistent(r)` whether `r` may be read before this frame writes it.
+pub fn schedule(
+    uses: &[Vec<PassUse>],
+    usages: &[Vec<(ResourceId, Usage)>],
+    persistent: impl Fn(ResourceId) -> bool + Copy,
+    outputs: &[ResourceId],
+) -> Result<Schedule, DependencyError> {
+    let all = dependencies(uses, persistent)?;
+    let alive = alive_passes(&all, outputs);
+    let kept: Vec<PassId> = (0..uses.len()).filter(|&p| alive[p]).collect();
+    // Hazards are recomputed among the kept passes: a culled pass may have been the only
+    // link between two passes that still conflict with each other.
+    let kept_uses: Vec<Vec<PassUse>> = kept.iter().map(|&p| uses[p].clone()).collect();
+    let deps = dependencies(&kept_uses, persistent)?;
+    let levels = stage_of_each_pass(&deps.graph);
+    let stages = stages(&levels);
+    let kept_usages: Vec<_> = kept.iter().map(|&p| usages[p].clone()).collect();
+    let barriers = barriers(&stages, &kept_usages);
+    Ok(Schedule {
+        all,
+        alive,
+        kept,
+        deps,
+        levels,
+        stages,
+        barriers,
+    })
+}
+
+/// Level of each pass: one more than the highest level among its dependencies. Edges run from
+/// earlier to later passes, so one pass in program order suffices.
+pub fn stage_of_each_pass<E>(graph: &DiGraph<PassId, E>) -> Vec<usize> {
+    let mut level = vec![0; graph.node_count()];
+    for p in 0..graph.node_count() {
+        level[p] = graph
+            .neighbors_directed(NodeIndex::new(p), Direction::Incoming)
+            .map(|q| level[q.index()] + 1)
+            .max()
+            .unwrap_or(0);
+    }
+    level
+}
+
+/// Groups passes by level, each stage in program order.
+pub fn stages(levels: &[usize]) -> Vec<Vec<PassId>> {
+    let count = levels.iter().max().map_or(0, |m| m + 1);
+    let mut stages = vec![Vec::new(); count];
+    for (p, &l) in levels.iter().enumerate() {
+        stages[l].push(p);
+    }
+    stages
+}
+
+/// One barrier per resource whose usage changes, or is written, across a stage boundary.
+/// `usages[p]` lists (resource, usage) for pass `p`.
+pub fn barriers(stages: &[Vec<PassId>], usages: &[Vec<(ResourceId, Usage)>]) -> Vec<Barrier> {
+    let mut last: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
+    let mut out = Vec::new();
+    for (s, passes) in stages.iter().enumerate() {
+        let mut here: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
+        for &p in passes {
+            for &(r, usage) in &usages[p] {
+                let set = here.entry(r).or_default();
+                if !set.contains(&usage) {
+                    set.push(usage);
+                    set.sort();
+                }
+            }
+        }
+        for (r, to) in here {
+            if let Some(from) = last.get(&r) {
+                let writes = from.iter().chain(&to).any(|u| u.writes());
+                if writes || *from != to {
+                    out.push(Barrier {
+                        before_stage: s,
+                        resource: r,
+                        from: from.clone(),
+                        to: to.clone(),
+                    });
+                }
+            }
+            last.insert(r, to);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn read_after_read_of_the_same_kind_needs_no_barrier() {
+        let usages = vec![
+            vec![(0, Usage::StorageWrite)],
+            vec![(0, Usage::StorageRead)],
+            vec![(0, Usage::StorageRead)],
+        ];
+        let b = barriers(&[vec![0], vec![1], vec![2]], &usages);
+        assert_eq!(b.len(), 1);
+        assert_eq!(b[0].before_stage, 1);
+        assert_eq!(b[0].from, vec![Usage::StorageWrite]);
+        assert_eq!(b[0].to, vec![Usage::StorageRead]);
+    }
+
+    #[test]
+    fn write_after_write_gets_a_barrier_though_the_usage_is_unchanged() {
+        let usages = vec![
+            vec![(0, Usage::StorageWrite)],
+            vec![(0, Usage::StorageWrite)],
+        ];
+        assert_eq!(barriers(&[vec![0], vec![1]], &usages).len(), 1);
+    }
+
+    #[test]
+    fn a_resource_skipping_a_stage_gets_its_barrier_where_it_is_next_used() {
+        let usages = vec![
+            vec![(0, Usage::StorageWrite)],
+            vec![(1, Usage::StorageWrite)],
+            vec![(0, Usage::Sampled)],
+        ];
+        let b = barriers(&[vec![0], vec![1], vec![2]], &usages);
+        assert_eq!(b.len(), 1);
+        assert_eq!(b[0].before_stage, 2);
+    }
+}

@@ -1,0 +1,93 @@
+//! The installed binary: exit codes, stdout and stderr for check, plan and dot.
+
+mod common;
+
+use common::{Scratch, fixtures};
+use std::process::{Command, Output};
+
+fn passgraph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_passgraph"))
+        .args(args)
+        .output()
+        .expect("the passgraph binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn plan_prints_the_three_stages_of_the_seed_graph() {
+    let graph = fixtures().join("graphs/seed.ron");
+    let out = passgraph(&["plan", graph.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    common::assert_mentions(
+        &stdout,
+        &[
+            "0: intersect",
+            "1: ambient, direct, indirect",
+            "2: accumulate",
+            "barriers:",
+        ],
+    );
+}
+
+#[test]
+fn check_succeeds_on_every_fixture_graph() {
+    for entry in std::fs::read_dir(fixtures().join("graphs")).unwrap() {
+        let path = entry.unwrap().path();
+        let out = passgraph(&["check", path.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            text(&out.stderr)
+        );
+        assert!(text(&out.stdout).contains(": ok"));
+    }
+}
+
+#[test]
+fn invalid_graph_exits_1_with_the_message_on_stderr_and_no_panic() {
+    let s = Scratch::new();
+    s.edit(
+        "graphs/seed.ron",
+        r#""out": "indirect""#,
+        r#""out": "indirekt""#,
+    );
+    let graph = s.path("graphs/seed.ron");
+    for command in ["check", "plan", "dot"] {
+        let out = passgraph(&[command, graph.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1), "{command}");
+        let stderr = text(&out.stderr);
+        assert!(stderr.starts_with("error: "), "{stderr}");
+        assert!(stderr.contains("'indirekt'"), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(out.stdout.is_empty());
+    }
+}
+
+#[test]
+fn dot_writes_a_whole_file() {
+    let s = Scratch::new();
+    let out_file = s.path("seed.dot");
+    let graph = fixtures().join("graphs/seed.ron");
+    let out = passgraph(&[
+        "dot",
+        graph.to_str().unwrap(),
+        "--out",
+        out_file.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let dot = std::fs::read_to_string(out_file).unwrap();
+    assert!(dot.starts_with("digraph") && dot.trim_end().ends_with('}'));
+}
+
+#[test]
+fn bad_size_is_a_usage_error_not_a_panic() {
+    let graph = fixtures().join("graphs/seed.ron");
+    let out = passgraph(&["plan", graph.to_str().unwrap(), "--size", "0x12"]);
+    assert!(!out.status.success());
+    assert!(!text(&out.stderr).contains("panicked"));
+}
