@@ -263,3 +263,25 @@ fn dot_output_has_every_pass_and_marks_culled_ones() {
         ],
     );
 }
+
+#[test]
+fn scene_overrides_need_no_param_and_are_listed_for_the_executor() {
+    let s = Scratch::new();
+    s.edit(
+        "shaders/direct.wgsl",
+        "@compute @workgroup_size(8, 8)",
+        "override scene_light_count: u32;\n\n@compute @workgroup_size(8, 8)",
+    );
+    s.edit(
+        "shaders/direct.wgsl",
+        "light * u, 1.0)",
+        "light * u * f32(scene_light_count), 1.0)",
+    );
+    let plan = s.compile("graphs/seed.ron").unwrap();
+    let direct = plan.pass("direct").unwrap();
+    assert_eq!(
+        direct.scene_overrides,
+        vec!["scene_light_count".to_string()]
+    );
+    assert!(direct.overrides.is_empty());
+}

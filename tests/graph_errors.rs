@@ -571,3 +571,28 @@ fn invalid_resource_declarations_are_rejected() {
         assert_mentions(&msg, &["seed.ron", why]);
     }
 }
+
+#[test]
+fn scene_override_of_the_wrong_type_is_an_error() {
+    let s = Scratch::new();
+    s.edit(
+        "shaders/direct.wgsl",
+        "@compute @workgroup_size(8, 8)",
+        "override scene_light_count: f32;\n\n@compute @workgroup_size(8, 8)",
+    );
+    s.edit(
+        "shaders/direct.wgsl",
+        "light * u, 1.0)",
+        "light * u * scene_light_count, 1.0)",
+    );
+    let (_, msg) = s.error(SEED);
+    assert_mentions(
+        &msg,
+        &[
+            "direct.wgsl",
+            "scene_light_count",
+            "set by the framework",
+            "U32",
+        ],
+    );
+}

@@ -8,7 +8,7 @@ use super::interface::{Access, BindingKind};
 use super::load::LoadedPass;
 use super::param::ParamValue;
 use super::plan::{ParamsUniform, PlannedBinding, PlannedResource, ResourceKind};
-use super::provided::ProvidedKind;
+use super::provided::{ProvidedKind, provided_override};
 use super::schedule::Usage;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -20,6 +20,8 @@ pub struct BoundPass {
     pub params: BTreeMap<String, ParamValue>,
     pub params_uniform: Option<ParamsUniform>,
     pub overrides: Vec<(String, f64)>,
+    /// Overrides the framework sets from the scene (see `provided::PROVIDED_OVERRIDES`).
+    pub scene_overrides: Vec<String>,
     pub workgroups: [u32; 3],
     /// One entry per resource, accesses merged over its bindings.
     pub uses: Vec<(ResourceId, Access)>,
@@ -55,6 +57,28 @@ pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
         }
     }
     for o in &pass.interface.overrides {
+        if let Some(p) = provided_override(&o.name) {
+            if p.ty != o.ty {
+                return Err(GraphError::UnsupportedBinding {
+                    shader: shader.clone(),
+                    binding: o.name.clone(),
+                    reason: format!(
+                        "`override {}` is set by the framework ({}) and must have type {}",
+                        o.name, p.what, p.ty
+                    ),
+                });
+            }
+            if declared.contains_key(&o.name) {
+                return Err(GraphError::UnsupportedBinding {
+                    shader: pass.file.clone(),
+                    binding: o.name.clone(),
+                    reason:
+                        "the framework sets this override from the scene; remove it from params"
+                            .into(),
+                });
+            }
+            continue;
+        }
         match declared.get(&o.name) {
             Some(value) if value.ty() != o.ty => {
                 return Err(wrong_type(&o.name, o.ty.to_string(), value));
@@ -168,6 +192,12 @@ pub fn bind_instance(
         .iter()
         .filter_map(|o| Some((o.name.clone(), params.get(&o.name)?.as_override()?)))
         .collect();
+    let scene_overrides = shader
+        .overrides
+        .iter()
+        .filter(|o| provided_override(&o.name).is_some())
+        .map(|o| o.name.clone())
+        .collect();
     let workgroups = match pass.decl.dispatch {
         Dispatch::PerPixel => {
             let [wx, wy, _] = shader.workgroup_size;
@@ -184,6 +214,7 @@ pub fn bind_instance(
         params,
         params_uniform,
         overrides,
+        scene_overrides,
         workgroups,
         uses,
         usages,

@@ -157,6 +157,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
                 params: b.params.clone(),
                 params_uniform: b.params_uniform.clone(),
                 overrides: b.overrides.clone(),
+                scene_overrides: b.scene_overrides.clone(),
                 uses: b.uses.clone(),
             }
         })

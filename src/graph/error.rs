@@ -206,6 +206,13 @@ pub enum GraphError {
         known: Vec<String>,
     },
 
+    #[error("{}: --set {setting}: {reason}", graph.display())]
+    InvalidSetting {
+        graph: PathBuf,
+        setting: String,
+        reason: String,
+    },
+
     #[error("{}: no pass writes output '{output}'", graph.display())]
     OutputNotWritten { graph: PathBuf, output: String },
 }

@@ -18,4 +18,5 @@ pub mod plan_text;
 pub mod provided;
 pub mod reflect;
 pub mod schedule;
+pub mod set_param;
 pub mod shader_source;

@@ -99,6 +99,8 @@ pub struct PlannedPass {
     pub params_uniform: Option<ParamsUniform>,
     /// Pipeline-overridable constants set from params.
     pub overrides: Vec<(String, f64)>,
+    /// Pipeline-overridable constants the executor sets from the scene.
+    pub scene_overrides: Vec<String>,
     /// Each resource touched, with the union of its bindings' accesses.
     pub uses: Vec<(ResourceId, Access)>,
 }

@@ -1,5 +1,7 @@
 //! Resources the framework provides by well-known names, which passes bind like any other.
 
+use super::param::ParamType;
+
 /// How a provided resource is bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ProvidedKind {
@@ -52,4 +54,31 @@ pub const PROVIDED: &[Provided] = &[
 
 pub fn provided(name: &str) -> Option<&'static Provided> {
     PROVIDED.iter().find(|p| p.name == name)
+}
+
+/// A pipeline-overridable constant the framework sets from the scene, so shaders are
+/// specialised to what the scene uses (no light loop without lights, no specular lobe
+/// without `Ks`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProvidedOverride {
+    pub name: &'static str,
+    pub ty: ParamType,
+    pub what: &'static str,
+}
+
+pub const PROVIDED_OVERRIDES: &[ProvidedOverride] = &[
+    ProvidedOverride {
+        name: "scene_light_count",
+        ty: ParamType::U32,
+        what: "number of emissive triangles (0: no shadow rays)",
+    },
+    ProvidedOverride {
+        name: "scene_has_specular",
+        ty: ParamType::Bool,
+        what: "whether any material has a specular lobe (Ks > 0)",
+    },
+];
+
+pub fn provided_override(name: &str) -> Option<&'static ProvidedOverride> {
+    PROVIDED_OVERRIDES.iter().find(|o| o.name == name)
 }
