@@ -5,7 +5,11 @@
 #![allow(clippy::result_large_err)]
 
 pub mod atomic_write;
+pub mod bench;
+pub mod gpu;
 pub mod graph;
+pub mod render;
+pub mod scene;
 
 pub use graph::compile::{compile, compile_file};
 pub use graph::dot::to_dot;

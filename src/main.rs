@@ -1,19 +1,30 @@
 //! The `passgraph` command line: parse, call the library, print.
 
 use clap::{Parser, Subcommand};
+use passgraph::render::channels::ChannelSelection;
+use passgraph::render::session::{RenderSettings, Session};
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Instant;
+
+/// Built-in defaults, so `cargo run --release` alone renders the Cornell box.
+const DEFAULT_GRAPH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs/pathtracer.ron");
+const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/scene.ron");
 
 #[derive(Parser)]
 #[command(
     name = "passgraph",
     version,
-    about = "A render graph of WGSL compute passes described in RON"
+    about = "A render graph of WGSL compute passes described in RON",
+    args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    /// Without a command: `render` with these options (the Cornell box by default).
+    #[command(flatten)]
+    render: RenderArgs,
 }
 
 #[derive(Subcommand)]
@@ -22,6 +33,8 @@ enum Command {
     Check(GraphArgs),
     /// Print the compiled plan: stages, barriers, culled passes, lifetimes and reuse.
     Plan(GraphArgs),
+    /// Render a scene progressively with a graph and write images.
+    Render(RenderArgs),
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -41,6 +54,95 @@ struct GraphArgs {
     size: [u32; 2],
 }
 
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// The graph to run.
+    #[arg(long, default_value = DEFAULT_GRAPH)]
+    graph: PathBuf,
+    /// The scene file (RON naming a mesh and a camera).
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    scene: PathBuf,
+    /// Frames to accumulate (one sample per pixel each).
+    #[arg(long, default_value_t = 1000)]
+    frames: u32,
+    /// Image size, WxH.
+    #[arg(long, default_value = "256x256", value_parser = parse_size)]
+    size: [u32; 2],
+    /// Random seed: the same seed gives the same image on the same adapter.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Channel(s) to write: sum, l0, direct, indirect, ambient, or a '+'-joined list.
+    #[arg(long, default_value = "sum")]
+    channel: ChannelSelection,
+    /// Override a graph param: INSTANCE.PARAM=VALUE (repeatable).
+    #[arg(long = "set")]
+    set: Vec<String>,
+    /// Output image: .png (sRGB, clamped) or .exr (linear float32). Repeatable.
+    #[arg(long = "out", default_value = "render.png")]
+    out: Vec<PathBuf>,
+    /// Use the first adapter whose name contains this (also env PASSGRAPH_ADAPTER).
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+fn render(args: RenderArgs) -> Result<(), String> {
+    let settings = RenderSettings {
+        graph: args.graph,
+        scene: args.scene,
+        size: args.size,
+        seed: args.seed,
+        set: args.set,
+        adapter: args.adapter,
+    };
+    let mut session = Session::new(&settings).map_err(|e| e.to_string())?;
+    let info = session.context().adapter_info();
+    let scene = session.scene();
+    eprintln!(
+        "adapter: {} ({:?}); scene: {} triangles, {} lights, {} BVH nodes; specialised: scene_light_count={}, scene_has_specular={}",
+        info.name,
+        info.backend,
+        scene.triangles.len(),
+        scene.light_count,
+        scene.nodes.len(),
+        scene.light_count,
+        scene.has_specular
+    );
+    for c in &session.plan().culled {
+        eprintln!("culled {}: {}", c.name, c.reason);
+    }
+    let bar = indicatif::ProgressBar::new(u64::from(args.frames));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
+            .map_err(|e| e.to_string())?,
+    );
+    let start = Instant::now();
+    for _ in 0..args.frames {
+        session.render_frame().map_err(|e| e.to_string())?;
+        bar.inc(1);
+    }
+    // Reading the result waits for the GPU, so the time below includes every frame's work.
+    let image = session.image(&args.channel).map_err(|e| e.to_string())?;
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let dropped = session.dropped().map_err(|e| e.to_string())?;
+    for path in &args.out {
+        image.write(path)?;
+    }
+    let fps = f64::from(args.frames) / seconds;
+    let rays = session.rays_per_frame_bound() as f64 * fps;
+    println!(
+        "{} frames in {seconds:.2} s: {fps:.1} frames/s, {:.1} Mrays/s (at most), {dropped} dropped samples; wrote {}",
+        args.frames,
+        rays / 1e6,
+        args.out
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
+
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -55,7 +157,8 @@ fn parse_size(s: &str) -> Result<[u32; 2], String> {
 fn run(cli: Cli) -> Result<(), String> {
     let plan =
         |g: &GraphArgs| compile_file(&g.graph, g.size).map_err(|e: GraphError| e.to_string());
-    match cli.command {
+    match cli.command.unwrap_or(Command::Render(cli.render)) {
+        Command::Render(args) => render(args)?,
         Command::Check(g) => {
             let p = plan(&g)?;
             println!(

@@ -1,0 +1,53 @@
+// Accumulate: per-pixel running mean m += (x - m) / (n + 1) of L0, direct, indirect, ambient
+// and their sum, in f32. A sample with a non-finite channel is dropped for the whole pixel and
+// counted; each layer's w holds the pixel's own sample count, so a drop never skews the mean.
+#include "lib/scene.wgsl"
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var l0: texture_2d<f32>;
+@group(0) @binding(2) var direct: texture_2d<f32>;
+@group(0) @binding(3) var indirect: texture_2d<f32>;
+@group(0) @binding(4) var ambient: texture_2d<f32>;
+// Five planes of width * height: L0, direct, indirect, ambient, sum.
+@group(0) @binding(5) var<storage, read_write> result: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> dropped: atomic<u32>;
+
+// WGSL may assume floats are finite, so test the exponent bits instead of x != x.
+fn finite(v: vec3<f32>) -> bool {
+    let e = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(e != vec3<u32>(0x7f800000u));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= frame.width || id.y >= frame.height {
+        return;
+    }
+    let pixel = vec2<i32>(id.xy);
+    let samples = array<vec3<f32>, 4>(
+        textureLoad(l0, pixel, 0).xyz,
+        textureLoad(direct, pixel, 0).xyz,
+        textureLoad(indirect, pixel, 0).xyz,
+        textureLoad(ambient, pixel, 0).xyz,
+    );
+    let sum = samples[0] + samples[1] + samples[2] + samples[3];
+    let plane = frame.width * frame.height;
+    let i = id.y * frame.width + id.x;
+    if !(finite(samples[0]) && finite(samples[1]) && finite(samples[2]) && finite(samples[3]) && finite(sum)) {
+        atomicAdd(&dropped, 1u);
+        if frame.accumulated == 0u {
+            // A restart still forgets the old history, with zero samples for this pixel.
+            for (var c = 0u; c < 5u; c++) {
+                result[c * plane + i] = vec4<f32>(0.0);
+            }
+        }
+        return;
+    }
+    for (var c = 0u; c < 5u; c++) {
+        let x = select(samples[min(c, 3u)], sum, c == 4u);
+        let m = result[c * plane + i];
+        // A restart ignores whatever the buffer held.
+        let n = select(m.w, 0.0, frame.accumulated == 0u);
+        result[c * plane + i] = vec4<f32>(m.xyz + (x - m.xyz) / (n + 1.0), n + 1.0);
+    }
+}

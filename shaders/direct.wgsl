@@ -1,0 +1,39 @@
+// Direct: emission seen at the primary hit (L0, front faces only) and next-event estimation
+// to every emissive triangle (L1).
+#include "lib/scene.wgsl"
+#include "lib/rng.wgsl"
+#include "lib/sampling.wgsl"
+#include "lib/brdf.wgsl"
+#include "lib/bvh.wgsl"
+#include "lib/primary.wgsl"
+#include "lib/surface.wgsl"
+#include "lib/nee.wgsl"
+
+@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(1) var<storage, read> materials: array<Material>;
+@group(0) @binding(2) var<storage, read> lights: array<u32>;
+@group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
+@group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
+@group(0) @binding(6) var l0: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var out: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let pixel = vec2<i32>(id.xy);
+    if any(id.xy >= textureDimensions(out)) {
+        return;
+    }
+    let ray = load_primary(pixel);
+    if ray.triangle == NO_HIT {
+        textureStore(l0, pixel, vec4<f32>(0.0));
+        textureStore(out, pixel, vec4<f32>(0.0));
+        return;
+    }
+    let s = surface_at(triangles[ray.triangle], ray.u, ray.v, ray.dir);
+    let emitted = select(vec3<f32>(0.0), materials[s.material].ke, s.front);
+    var rng = rng_stream(textureLoad(seeds, pixel).x, 2u);
+    let lit = direct_light(s, -ray.dir, &rng);
+    textureStore(l0, pixel, vec4<f32>(emitted, 1.0));
+    textureStore(out, pixel, vec4<f32>(lit, 1.0));
+}

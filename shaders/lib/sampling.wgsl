@@ -1,0 +1,41 @@
+// Sampling helpers: directions around a normal, points on triangles.
+
+const PI: f32 = 3.14159265358979;
+
+// An orthonormal basis around unit n without a branch on a special axis (Duff et al. 2017).
+fn basis(n: vec3<f32>) -> mat3x3<f32> {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    let bt = vec3<f32>(b, s + n.y * n.y * a, -n.y);
+    return mat3x3<f32>(t, bt, n);
+}
+
+// Cosine-weighted direction around n (pdf cos(theta) / pi), by Malley's method.
+fn sample_cosine(n: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let local = vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u1)));
+    return normalize(basis(n) * local);
+}
+
+// Uniform point on a triangle (Turk 1990): barycentrics from two uniforms.
+fn sample_triangle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let su = sqrt(u1);
+    return (1.0 - su) * p0 + su * (1.0 - u2) * p1 + su * u2 * p2;
+}
+
+// Moves a ray origin off a surface by a few ulps along n, scale-independently (Wächter and
+// Binder, Ray Tracing Gems ch. 6): integer steps on the float bits, a fixed step near zero.
+fn offset_ray(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let of_i = vec3<i32>(256.0 * n);
+    let p_i = vec3<f32>(
+        bitcast<f32>(bitcast<i32>(p.x) + select(of_i.x, -of_i.x, p.x < 0.0)),
+        bitcast<f32>(bitcast<i32>(p.y) + select(of_i.y, -of_i.y, p.y < 0.0)),
+        bitcast<f32>(bitcast<i32>(p.z) + select(of_i.z, -of_i.z, p.z < 0.0)),
+    );
+    let near = 1.0 / 32.0;
+    let step = (1.0 / 65536.0) * n;
+    return select(p_i, p + step, abs(p) < vec3<f32>(near));
+}

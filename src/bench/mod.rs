@@ -1,0 +1,3 @@
+//! Measuring renders: error metrics against references.
+
+pub mod metrics;

@@ -1,0 +1,164 @@
+//! Runs a compiled `Plan` frame after frame: everything is created once in `new`, and a frame
+//! is one command encoder with one compute pass per stage.
+
+use super::context::GpuContext;
+use super::error::GpuError;
+use super::error_scope::capture_errors;
+use super::pass::PreparedPass;
+use super::provided_data::ProvidedData;
+use super::resources::{GpuResources, write_padded};
+use super::timing::StageTimer;
+use crate::graph::plan::Plan;
+
+pub struct Executor {
+    // Kept so reads and uploads need no context argument.
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    resources: GpuResources,
+    /// In `Plan::passes` order, so `stages` indexes it directly.
+    passes: Vec<PreparedPass>,
+    stages: Vec<Vec<usize>>,
+    stage_labels: Vec<String>,
+    timer: Option<StageTimer>,
+}
+
+impl Executor {
+    /// Allocates the plan's resources, uploads `provided`, and builds every kept pass's
+    /// pipeline (with its param and scene overrides as pipeline constants), params uniform and
+    /// bind groups. Errors name the pass or resource; wgpu validation errors are caught.
+    pub fn new(
+        ctx: &GpuContext,
+        plan: &Plan,
+        provided: &ProvidedData,
+    ) -> Result<Executor, GpuError> {
+        let resources = GpuResources::new(ctx, plan, provided)?;
+        let passes = plan
+            .passes
+            .iter()
+            .map(|pass| PreparedPass::new(ctx, pass, &resources, provided))
+            .collect::<Result<Vec<_>, _>>()?;
+        let stage_labels = plan
+            .stage_names()
+            .iter()
+            .enumerate()
+            .map(|(s, names)| format!("stage {s}: {}", names.join(", ")))
+            .collect();
+        Ok(Executor {
+            device: ctx.device().clone(),
+            queue: ctx.queue().clone(),
+            resources,
+            passes,
+            stages: plan.stages.clone(),
+            stage_labels,
+            timer: StageTimer::new(ctx.device(), ctx.queue(), plan.stages.len()),
+        })
+    }
+
+    /// Records and submits one frame without waiting for it. wgpu orders the stages' accesses
+    /// (the plan's barriers) by itself, from each dispatch's bindings.
+    pub fn run_frame(&mut self, ctx: &GpuContext) -> Result<(), GpuError> {
+        let device = ctx.device();
+        capture_errors(device, || {
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+            for (s, stage) in self.stages.iter().enumerate() {
+                let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&self.stage_labels[s]),
+                    timestamp_writes: self.timer.as_ref().map(|t| t.pass_writes(s)),
+                });
+                for &p in stage {
+                    let pass = &self.passes[p];
+                    compute.set_pipeline(&pass.pipeline);
+                    for (group, bind_group) in &pass.bind_groups {
+                        compute.set_bind_group(*group, bind_group, &[]);
+                    }
+                    let [x, y, z] = pass.workgroups;
+                    compute.dispatch_workgroups(x, y, z);
+                }
+            }
+            if let Some(timer) = &mut self.timer {
+                timer.resolve(&mut encoder);
+            }
+            ctx.queue().submit([encoder.finish()]);
+        })
+        .map_err(|message| GpuError::Frame { message })
+    }
+
+    /// Replaces the bytes of a provided uniform (e.g. `frame`, every frame). A uniform no kept
+    /// pass binds is accepted and ignored, so callers need not know which ones the graph uses.
+    pub fn update_uniform(&mut self, name: &str, bytes: &[u8]) -> Result<(), GpuError> {
+        let Some(buffer) = self.resources.provided_uniform(name)? else {
+            return Ok(());
+        };
+        if bytes.len() as u64 > buffer.size() {
+            return Err(GpuError::WrongSize {
+                name: name.to_string(),
+                expected: buffer.size(),
+                got: bytes.len() as u64,
+            });
+        }
+        write_buffer(&self.device, &self.queue, buffer, bytes).map_err(|message| {
+            GpuError::Transfer {
+                name: name.to_string(),
+                message,
+            }
+        })
+    }
+
+    /// Replaces a graph resource's whole content (textures: layer-major, then row-major,
+    /// tightly packed), e.g. to initialise persistent history.
+    pub fn write_resource(&mut self, name: &str, bytes: &[u8]) -> Result<(), GpuError> {
+        self.resources.write(&self.device, &self.queue, name, bytes)
+    }
+
+    /// A graph resource's content after every submitted frame, blocking: textures layer-major,
+    /// then row-major, tightly packed; buffers as their declared bytes.
+    pub fn read_resource(&self, name: &str) -> Result<Vec<u8>, GpuError> {
+        self.resources.read(&self.device, &self.queue, name)
+    }
+
+    /// Replaces a pass's `params` uniform (live edits); `bytes` must keep the block's length.
+    pub fn set_params(&mut self, pass_name: &str, bytes: &[u8]) -> Result<(), GpuError> {
+        let pass = self
+            .passes
+            .iter()
+            .find(|p| p.name == pass_name)
+            .ok_or_else(|| GpuError::UnknownPass {
+                pass: pass_name.to_string(),
+                known: self.passes.iter().map(|p| p.name.clone()).collect(),
+            })?;
+        let (buffer, len) = pass.params.as_ref().ok_or_else(|| GpuError::NoParams {
+            pass: pass_name.to_string(),
+        })?;
+        if bytes.len() as u64 != *len {
+            return Err(GpuError::WrongParamsSize {
+                pass: pass_name.to_string(),
+                expected: *len,
+                got: bytes.len() as u64,
+            });
+        }
+        write_buffer(&self.device, &self.queue, buffer, bytes).map_err(|message| {
+            GpuError::Transfer {
+                name: format!("{pass_name} params"),
+                message,
+            }
+        })
+    }
+
+    /// GPU milliseconds each stage took in the latest frame, one per stage; `None` without
+    /// timestamp support or before the first frame. Waits for that frame, so call it now and
+    /// then rather than every frame.
+    pub fn last_stage_times_ms(&self) -> Option<Vec<f64>> {
+        self.timer.as_ref()?.read_ms(&self.device, &self.queue)
+    }
+}
+
+fn write_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    bytes: &[u8],
+) -> Result<(), String> {
+    capture_errors(device, || write_padded(queue, buffer, bytes))
+}

@@ -1,0 +1,18 @@
+//! Running a compiled `Plan` on wgpu: a headless device, the plan's resources, and an
+//! executor that records one compute pass per stage each frame.
+
+pub mod context;
+mod convert;
+pub mod error;
+mod error_scope;
+pub mod executor;
+mod pass;
+pub mod provided_data;
+mod readback;
+mod resources;
+mod timing;
+
+pub use context::GpuContext;
+pub use error::GpuError;
+pub use executor::Executor;
+pub use provided_data::ProvidedData;

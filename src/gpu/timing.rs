@@ -1,0 +1,97 @@
+//! GPU time per stage: a timestamp at the start and end of each stage's compute pass,
+//! resolved on the GPU every frame and read back only when asked.
+
+use super::error_scope::capture_errors;
+use super::readback::read_mapped;
+
+pub struct StageTimer {
+    /// Query `2 * s` is stage `s`'s start, `2 * s + 1` its end.
+    queries: wgpu::QuerySet,
+    /// Resolved ticks of the latest frame; resolving every frame costs a tiny GPU copy.
+    resolved: wgpu::Buffer,
+    /// Filled from `resolved` only on request, so frames never wait for a map.
+    readback: wgpu::Buffer,
+    stages: u32,
+    /// Nanoseconds per tick.
+    period_ns: f64,
+    /// Whether a frame has written the queries yet; reading them before is meaningless.
+    written: bool,
+}
+
+impl StageTimer {
+    /// `None` when the device has no timestamp queries or the stages exceed one query set.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, stages: usize) -> Option<StageTimer> {
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || stages == 0 {
+            return None;
+        }
+        let count = u32::try_from(stages * 2)
+            .ok()
+            .filter(|&c| c <= wgpu::QUERY_SET_MAX_QUERIES)?;
+        let size = u64::from(count) * u64::from(wgpu::QUERY_SIZE);
+        // Timing is optional: if the device refuses any of this, run without it.
+        capture_errors(device, || StageTimer {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("stage timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            }),
+            resolved: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("stage timestamps resolved"),
+                size,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("stage timestamps readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            stages: count / 2,
+            period_ns: f64::from(queue.get_timestamp_period()),
+            written: false,
+        })
+        .ok()
+    }
+
+    /// The timestamp writes for stage `stage`'s compute pass.
+    pub fn pass_writes(&self, stage: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+        let start = stage as u32 * 2;
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(start),
+            end_of_pass_write_index: Some(start + 1),
+        }
+    }
+
+    /// Records the resolve at the end of a frame's commands.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.queries, 0..self.stages * 2, &self.resolved, 0);
+        self.written = true;
+    }
+
+    /// Milliseconds per stage of the latest submitted frame, blocking until it is done.
+    pub fn read_ms(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Vec<f64>> {
+        if !self.written {
+            return None;
+        }
+        capture_errors(device, || {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.readback, 0, None);
+            queue.submit([encoder.finish()]);
+        })
+        .ok()?;
+        let bytes = read_mapped(device, &self.readback, self.readback.size()).ok()?;
+        let ticks: Vec<u64> = bytes
+            .chunks_exact(8)
+            .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+            .collect();
+        Some(
+            ticks
+                .chunks_exact(2)
+                // Clocks may not be monotonic across a pass on every driver; never go negative.
+                .map(|t| t[1].saturating_sub(t[0]) as f64 * self.period_ns / 1e6)
+                .collect(),
+        )
+    }
+}

@@ -1,0 +1,216 @@
+//! A progressive rendering session: a compiled graph, a scene on the GPU, the frame counter.
+
+use super::channels::ChannelSelection;
+use super::image::RgbImage;
+use crate::gpu::{Executor, GpuContext, GpuError, ProvidedData};
+use crate::graph::compile::compile;
+use crate::graph::error::GraphError;
+use crate::graph::load::load_graph;
+use crate::graph::plan::Plan;
+use crate::graph::set_param::set_param;
+use crate::scene::{Scene, SceneError, SceneGpu, load_scene};
+use std::path::PathBuf;
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error("{0}")]
+    Other(String),
+}
+
+/// What to render.
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    pub graph: PathBuf,
+    pub scene: PathBuf,
+    pub size: [u32; 2],
+    pub seed: u32,
+    /// `INSTANCE.PARAM=VALUE` overrides of graph params.
+    pub set: Vec<String>,
+    /// Adapter name filter; `None` takes the default adapter.
+    pub adapter: Option<String>,
+}
+
+/// The result buffer's name and the dropped-sample counter's, as the path tracer graph
+/// declares them.
+pub const RESULT: &str = "result";
+pub const DROPPED: &str = "dropped";
+
+pub struct Session {
+    ctx: GpuContext,
+    plan: Plan,
+    executor: Executor,
+    scene: Scene,
+    gpu_scene: SceneGpu,
+    size: [u32; 2],
+    seed: u32,
+    /// Frames submitted since the session started.
+    index: u32,
+    /// Frames in the current accumulation (0 after a reset).
+    accumulated: u32,
+}
+
+impl Session {
+    pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
+        let mut graph = load_graph(&settings.graph)?;
+        for s in &settings.set {
+            set_param(&mut graph, s)?;
+        }
+        let plan = compile(&graph, settings.size)?;
+        let scene = load_scene(&settings.scene)?;
+        let gpu_scene = scene.to_gpu();
+        let ctx = GpuContext::new(settings.adapter.as_deref())?;
+        let provided = provided_data(&scene, &gpu_scene, settings.size, settings.seed, 0, 0);
+        let executor = Executor::new(&ctx, &plan, &provided)?;
+        Ok(Session {
+            ctx,
+            plan,
+            executor,
+            scene,
+            gpu_scene,
+            size: settings.size,
+            seed: settings.seed,
+            index: 0,
+            accumulated: 0,
+        })
+    }
+
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    pub fn scene(&self) -> &SceneGpu {
+        &self.gpu_scene
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    pub fn accumulated(&self) -> u32 {
+        self.accumulated
+    }
+
+    /// Renders one frame and adds it to the accumulation.
+    pub fn render_frame(&mut self) -> Result<(), RenderError> {
+        let frame = frame_bytes(self.size, self.seed, self.index, self.accumulated);
+        self.executor.update_uniform("frame", &frame)?;
+        self.executor.run_frame(&self.ctx)?;
+        self.index += 1;
+        self.accumulated += 1;
+        Ok(())
+    }
+
+    /// Starts the accumulation over (the next frame replaces the history).
+    pub fn reset(&mut self) {
+        self.accumulated = 0;
+    }
+
+    /// The accumulation buffer: planes of width*height [mean r, g, b, sample count].
+    pub fn result(&self) -> Result<Vec<[f32; 4]>, RenderError> {
+        let bytes = self.executor.read_resource(RESULT)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    pub fn image(&self, channels: &ChannelSelection) -> Result<RgbImage, RenderError> {
+        let [w, h] = self.size;
+        Ok(RgbImage::from_result(&self.result()?, w, h, channels))
+    }
+
+    /// Samples dropped so far because a channel was NaN or infinite.
+    pub fn dropped(&self) -> Result<u32, RenderError> {
+        let bytes = self.executor.read_resource(DROPPED)?;
+        bytes
+            .get(0..4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .ok_or_else(|| RenderError::Other("the dropped counter is empty".into()))
+    }
+
+    /// Rays one frame casts at most: a primary ray per pixel, a shadow ray per light for
+    /// direct light, a bounce plus a shadow ray per light for indirect light, and an ambient
+    /// ray when ambient light is on. Misses and back-facing lights cast fewer.
+    pub fn rays_per_frame_bound(&self) -> u64 {
+        let pixels = u64::from(self.size[0]) * u64::from(self.size[1]);
+        let lights = u64::from(self.gpu_scene.light_count);
+        let mut per_pixel = 0;
+        for pass in &self.plan.passes {
+            per_pixel += match pass.name.as_str() {
+                "intersect" => 1,
+                "direct" => lights,
+                "indirect" if lights > 0 => 1 + lights,
+                "ambient" => match pass.params.get("ambient_color") {
+                    Some(crate::graph::param::ParamValue::Vec3(r, g, b))
+                        if (*r, *g, *b) != (0.0, 0.0, 0.0) =>
+                    {
+                        1
+                    }
+                    _ => 0,
+                },
+                _ => 0,
+            };
+        }
+        pixels * per_pixel
+    }
+
+    pub fn scene_description(&self) -> &Scene {
+        &self.scene
+    }
+}
+
+fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
+    let frame = crate::scene::gpu::Frame {
+        index,
+        accumulated,
+        width: size[0],
+        height: size[1],
+        seed,
+        ..Default::default()
+    };
+    bytemuck::bytes_of(&frame).to_vec()
+}
+
+/// The framework-provided resources and scene overrides for the path tracer's passes.
+fn provided_data(
+    scene: &Scene,
+    gpu: &SceneGpu,
+    size: [u32; 2],
+    seed: u32,
+    index: u32,
+    accumulated: u32,
+) -> ProvidedData {
+    let mut data = ProvidedData::default();
+    let camera = scene.camera.to_gpu(size[0], size[1]);
+    data.buffers.insert(
+        "scene.triangles".into(),
+        bytemuck::cast_slice(&gpu.triangles).to_vec(),
+    );
+    data.buffers.insert(
+        "scene.materials".into(),
+        bytemuck::cast_slice(&gpu.materials).to_vec(),
+    );
+    data.buffers.insert(
+        "scene.lights".into(),
+        bytemuck::cast_slice(&gpu.lights).to_vec(),
+    );
+    data.buffers.insert(
+        "scene.bvh".into(),
+        bytemuck::cast_slice(&gpu.nodes).to_vec(),
+    );
+    data.buffers
+        .insert("camera".into(), bytemuck::bytes_of(&camera).to_vec());
+    data.buffers
+        .insert("frame".into(), frame_bytes(size, seed, index, accumulated));
+    data.overrides
+        .insert("scene_light_count".into(), f64::from(gpu.light_count));
+    data.overrides.insert(
+        "scene_has_specular".into(),
+        if gpu.has_specular { 1.0 } else { 0.0 },
+    );
+    data
+}

@@ -1,0 +1,212 @@
+//! The scene as the GPU sees it: `#[repr(C)]` mirrors of `shaders/lib/scene.wgsl`, byte for byte,
+//! and [`SceneGpu`], the buffers built from a mesh (triangles in BVH order, materials, emissive
+//! triangles, BVH nodes) with the facts the shaders are specialised on.
+
+use super::bvh::{Bvh, BvhStats};
+use super::file::Scene;
+use super::intersect::{self, Hit, Ray};
+use super::lights::emissive_triangles;
+use super::mesh::Mesh;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use std::mem::size_of;
+
+/// One triangle, in BVH order; `material` indexes the materials buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Triangle {
+    pub p0: [f32; 3],
+    pub material: u32,
+    pub p1: [f32; 3],
+    pub pad1: u32,
+    pub p2: [f32; 3],
+    pub pad2: u32,
+}
+
+/// Normalised Blinn-Phong: f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns; `ke` is emitted
+/// radiance (front face only).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Material {
+    pub kd: [f32; 3],
+    pub ns: f32,
+    pub ks: [f32; 3],
+    pub pad0: f32,
+    pub ke: [f32; 3],
+    pub pad1: f32,
+}
+
+/// A threaded BVH node. Interior: `count == 0` and `a` is the miss link (skip); the hit link
+/// is implicit (this index + 1). Leaf: `count > 0` triangles starting at index `a`; its next
+/// node is always this index + 1.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub lo: [f32; 3],
+    pub a: u32,
+    pub hi: [f32; 3],
+    pub count: u32,
+}
+
+/// Pinhole camera, `right` and `up` scaled by the field of view and aspect (see
+/// [`CameraDesc::to_gpu`](super::camera::CameraDesc::to_gpu)).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCamera {
+    pub eye: [f32; 3],
+    pub pad0: f32,
+    pub forward: [f32; 3],
+    pub pad1: f32,
+    pub right: [f32; 3],
+    pub pad2: f32,
+    pub up: [f32; 3],
+    pub pad3: f32,
+}
+
+/// Per-frame values. `accumulated` is how many frames the result already holds (0: restart).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct Frame {
+    pub index: u32,
+    pub accumulated: u32,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+// WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
+const _: () = assert!(size_of::<Triangle>() == 48);
+const _: () = assert!(size_of::<Material>() == 48);
+const _: () = assert!(size_of::<BvhNode>() == 32);
+const _: () = assert!(size_of::<GpuCamera>() == 64);
+const _: () = assert!(size_of::<Frame>() == 32);
+
+impl Triangle {
+    pub fn new(vertices: [Vec3; 3], material: u32) -> Triangle {
+        Triangle {
+            p0: vertices[0].into(),
+            material,
+            p1: vertices[1].into(),
+            pad1: 0,
+            p2: vertices[2].into(),
+            pad2: 0,
+        }
+    }
+
+    pub fn vertices(&self) -> [Vec3; 3] {
+        [self.p0.into(), self.p1.into(), self.p2.into()]
+    }
+}
+
+impl Material {
+    /// What faces without a material get: white diffuse, Kd 0.8.
+    pub const DEFAULT: Material = Material::diffuse([0.8; 3]);
+
+    pub const fn diffuse(kd: [f32; 3]) -> Material {
+        Material {
+            kd,
+            ns: 0.0,
+            ks: [0.0; 3],
+            pad0: 0.0,
+            ke: [0.0; 3],
+            pad1: 0.0,
+        }
+    }
+
+    pub fn is_emissive(&self) -> bool {
+        self.ke.iter().any(|&c| c > 0.0)
+    }
+
+    pub fn is_specular(&self) -> bool {
+        self.ks.iter().any(|&c| c > 0.0)
+    }
+}
+
+impl BvhNode {
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+impl GpuCamera {
+    pub fn new(eye: Vec3, forward: Vec3, right: Vec3, up: Vec3) -> GpuCamera {
+        GpuCamera {
+            eye: eye.into(),
+            forward: forward.into(),
+            right: right.into(),
+            up: up.into(),
+            ..GpuCamera::default()
+        }
+    }
+}
+
+/// The scene's GPU buffers and the values of the scene's pipeline-overridable constants.
+#[derive(Clone, Debug)]
+pub struct SceneGpu {
+    /// In BVH order: leaves reference contiguous ranges; degenerate (zero-area) triangles come
+    /// last and no leaf references them.
+    pub triangles: Vec<Triangle>,
+    pub materials: Vec<Material>,
+    /// Indices into `triangles` of the emissive triangles with nonzero area, ascending. Empty
+    /// when the scene has no emitters.
+    pub lights: Vec<u32>,
+    /// Depth-first threaded BVH; node 0 is the root. Empty only if no triangle has area.
+    pub nodes: Vec<BvhNode>,
+    /// `lights.len()`: the `scene_light_count` override.
+    pub light_count: u32,
+    /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
+    pub has_specular: bool,
+    pub bvh: BvhStats,
+}
+
+impl SceneGpu {
+    /// Builds the BVH over `mesh` and lays its data out for the GPU.
+    pub fn build(mesh: &Mesh) -> SceneGpu {
+        let vertices: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+        let bvh = Bvh::build(&vertices);
+        let triangles: Vec<Triangle> = bvh
+            .order
+            .iter()
+            .map(|&i| {
+                let source = &mesh.triangles[i as usize];
+                Triangle::new(source.vertices, source.material)
+            })
+            .collect();
+        let materials = mesh.materials.clone();
+        let lights = emissive_triangles(&triangles, &materials);
+        let has_specular = triangles.iter().any(|t| {
+            materials
+                .get(t.material as usize)
+                .is_some_and(Material::is_specular)
+        });
+        SceneGpu {
+            light_count: lights.len() as u32,
+            triangles,
+            materials,
+            lights,
+            nodes: bvh.nodes,
+            has_specular,
+            bvh: bvh.stats,
+        }
+    }
+
+    /// The nearest hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.
+    pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        intersect::closest_hit(&self.nodes, &self.triangles, ray, tmin, tmax)
+    }
+
+    /// Whether anything is hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.
+    pub fn any_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
+        intersect::any_hit(&self.nodes, &self.triangles, ray, tmin, tmax)
+    }
+}
+
+impl Scene {
+    /// The scene's GPU buffers (builds the BVH).
+    pub fn to_gpu(&self) -> SceneGpu {
+        SceneGpu::build(&self.mesh)
+    }
+}

@@ -1,0 +1,23 @@
+//! Scenes: a RON scene file naming a mesh (OBJ/MTL through tobj, or PLY) and a pinhole camera;
+//! the SAH BVH in its threaded, depth-first layout; the emissive triangles; and the `#[repr(C)]`
+//! buffers that mirror `shaders/lib/scene.wgsl`. `intersect` is the CPU twin of
+//! `shaders/lib/bvh.wgsl`, with the brute-force oracle the tests hold both to.
+
+pub mod bvh;
+pub mod camera;
+pub mod error;
+pub mod file;
+pub mod gpu;
+pub mod intersect;
+pub mod lights;
+pub mod mesh;
+mod obj;
+mod ply;
+
+pub use bvh::{Bvh, BvhStats};
+pub use camera::{CameraDesc, CameraError};
+pub use error::{Location, SceneError};
+pub use file::{DEFAULT_SCENE, Scene, load_scene};
+pub use gpu::{BvhNode, Frame, GpuCamera, Material, SceneGpu, Triangle};
+pub use intersect::{Hit, Ray};
+pub use mesh::{Mesh, MeshTriangle, load_mesh};

@@ -1,0 +1,429 @@
+//! `shaders/lib/bvh.wgsl`: it validates with naga through the include step, and on a GPU
+//! (lavapipe in CI) it answers exactly as the CPU traversal in `scene::intersect` does.
+
+use glam::Vec3;
+use passgraph::graph::interface::BindingKind;
+use passgraph::graph::reflect::reflect;
+use passgraph::graph::shader_source::ShaderSource;
+use passgraph::scene::intersect::{PreparedRay, intersect_triangle};
+use passgraph::scene::{DEFAULT_SCENE, Mesh, Ray, SceneGpu, load_scene};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn check_shader() -> ShaderSource {
+    let path = root().join("tests/data/scenes/bvh_check.wgsl");
+    ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve")
+}
+
+#[test]
+fn bvh_wgsl_validates_with_naga_when_included_after_scene_wgsl() {
+    let source = check_shader();
+    let interface = reflect(&source, "main").unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = interface.bindings.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, ["triangles", "bvh", "queries", "answers"]);
+    // Runtime-sized arrays of the scene.wgsl structs: one element is the fixed part.
+    let sizes: Vec<u64> = interface
+        .bindings
+        .iter()
+        .map(|b| match b.kind {
+            BindingKind::Storage { min_size, .. } => min_size,
+            ref other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(sizes[..2], [48, 32]);
+}
+
+#[test]
+fn bvh_wgsl_defines_only_its_documented_names() {
+    // Every module-scope name except the public three carries the bvh_/Bvh/BVH_ prefix, so
+    // including passes cannot collide with helpers.
+    let text = std::fs::read_to_string(root().join("shaders/lib/bvh.wgsl")).unwrap();
+    for line in text.lines() {
+        for keyword in ["fn ", "struct ", "const "] {
+            if let Some(rest) = line.strip_prefix(keyword) {
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                let public = ["Hit", "closest_hit", "any_hit"].contains(&name.as_str());
+                let prefixed =
+                    name.starts_with("bvh_") || name.starts_with("Bvh") || name.starts_with("BVH_");
+                assert!(public || prefixed, "unprefixed module-scope name '{name}'");
+            }
+        }
+    }
+}
+
+/// Matches `Query` in bvh_check.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Query {
+    origin: [f32; 3],
+    tmin: f32,
+    dir: [f32; 3],
+    tmax: f32,
+}
+
+/// Matches `Answer` in bvh_check.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Answer {
+    t: f32,
+    u: f32,
+    v: f32,
+    triangle: u32,
+    any: u32,
+    pad: [u32; 3],
+}
+
+struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+}
+
+/// The GPU these tests need; without one they fail (CI installs lavapipe) rather than skip.
+fn gpu() -> Gpu {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+    let adapter =
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+            .expect("no GPU adapter: install mesa-vulkan-drivers for lavapipe");
+    let (device, queue) =
+        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
+            .expect("the adapter gives a device");
+    Gpu { device, queue }
+}
+
+/// Runs bvh_check.wgsl over `queries` against `scene`.
+fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer> {
+    use wgpu::util::DeviceExt;
+    let device = &gpu.device;
+    let storage = |label: &str, bytes: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let triangles = storage("triangles", bytemuck::cast_slice(&scene.triangles));
+    let nodes = storage("bvh", bytemuck::cast_slice(&scene.nodes));
+    let query_buffer = storage("queries", bytemuck::cast_slice(queries));
+    let size = (queries.len() * size_of::<Answer>()) as u64;
+    let answers = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("answers"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("bvh_check"),
+        source: wgpu::ShaderSource::Wgsl(check_shader().code.into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("bvh_check"),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: triangles.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: nodes.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: query_buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: answers.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(queries.len().div_ceil(64) as u32, 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&answers, 0, &readback, 0, size);
+    gpu.queue.submit([encoder.finish()]);
+    readback.map_async(wgpu::MapMode::Read, .., |result| result.expect("map"));
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("poll");
+    let answers = bytemuck::cast_slice(&readback.get_mapped_range(..).expect("mapped")).to_vec();
+    readback.unmap();
+    answers
+}
+
+/// A small deterministic generator (SplitMix64).
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(
+            lo + (hi - lo) * self.unit(),
+            lo + (hi - lo) * self.unit(),
+            lo + (hi - lo) * self.unit(),
+        )
+    }
+}
+
+/// Rays for a scene within `[lo, hi]`: aimed inside triangles, random, and axis-parallel with
+/// signed zeros. (Rays aimed exactly at a silhouette vertex or edge may legitimately be
+/// decided differently by the GPU's rounding: those are tested on the closed cube only, where
+/// every ray must hit and the exit point is unique.)
+fn queries_for(scene: &SceneGpu, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Query> {
+    let mut rng = Rng(seed);
+    let centre = (lo + hi) * 0.5;
+    let extent = (hi - lo).max_element();
+    let mut queries = Vec::new();
+    let mut push = |origin: Vec3, dir: Vec3, tmin: f32, tmax: f32| {
+        queries.push(Query {
+            origin: origin.into(),
+            tmin,
+            dir: dir.into(),
+            tmax,
+        });
+    };
+    for t in scene.triangles.iter().take(1500) {
+        let [p0, p1, p2] = t.vertices();
+        let (a, b) = (0.05 + 0.45 * rng.unit(), 0.05 + 0.45 * rng.unit());
+        let target = p0 + a * (p1 - p0) + b * (p2 - p0);
+        let origin = centre + rng.vec(-0.3, 0.3) * extent;
+        push(origin, target - origin, 0.0, f32::MAX);
+    }
+    for i in 0..1500 {
+        let origin = lo + (hi - lo) * rng.vec(-0.2, 1.2);
+        let mut dir = rng.vec(-1.0, 1.0);
+        if i % 3 == 0 {
+            let axis = i % 9 / 3;
+            dir = Vec3::select(
+                Vec3::AXES[axis].cmpeq(Vec3::ZERO),
+                Vec3::splat(if i % 2 == 0 { 0.0 } else { -0.0 }),
+                dir,
+            );
+        }
+        if dir == Vec3::ZERO {
+            dir = Vec3::X;
+        }
+        let tmax = if i % 4 == 0 {
+            extent * rng.unit()
+        } else {
+            f32::MAX
+        };
+        push(origin, dir, 0.0, tmax);
+    }
+    queries
+}
+
+/// Compares GPU answers with the CPU traversal. WGSL lets the GPU compiler fuse a multiply
+/// and an add, and its division need not be correctly rounded, so t may differ in its last
+/// bits; where several triangles are hit at (almost) the same t (a shared vertex or edge), that
+/// can pick another of them. Anything else must agree exactly.
+fn compare(
+    name: &str,
+    scene: &SceneGpu,
+    queries: &[Query],
+    answers: &[Answer],
+    aimed_at_edges: bool,
+) {
+    let (mut t_differences, mut ties) = (0, 0);
+    for (q, a) in queries.iter().zip(answers) {
+        let ray = Ray {
+            origin: q.origin.into(),
+            dir: q.dir.into(),
+        };
+        let cpu = scene.closest_hit(&ray, q.tmin, q.tmax);
+        let any = scene.any_hit(&ray, q.tmin, q.tmax);
+        assert_eq!(a.any != 0, any, "{name}: any_hit differs for {ray:?}");
+        let Some(hit) = cpu else {
+            assert_eq!(
+                a.triangle,
+                u32::MAX,
+                "{name}: GPU hit, CPU missed: {ray:?} {a:?}"
+            );
+            continue;
+        };
+        // t is a weighted mean of the vertices' distances along the ray, so its rounding
+        // error scales with the farthest vertex, not with t.
+        let reach = scene.triangles[hit.triangle as usize]
+            .vertices()
+            .iter()
+            .map(|p| (*p - ray.origin).length() / ray.dir.length())
+            .fold(hit.t.abs(), f32::max);
+        let tolerance = 64.0 * f32::EPSILON * reach;
+        assert!(
+            (a.t - hit.t).abs() <= tolerance,
+            "{name}: t {} vs {} for {ray:?}",
+            a.t,
+            hit.t
+        );
+        t_differences += usize::from(a.t != hit.t);
+        if a.triangle != hit.triangle {
+            // Another triangle is acceptable only where the two meet: the CPU hits it at the
+            // same t too, or (rays aimed at shared edges) the GPU's barycentrics put the hit on
+            // that triangle's boundary, at the same point.
+            let other = scene
+                .triangles
+                .get(a.triangle as usize)
+                .map(|t| t.vertices());
+            let other_t = other.and_then(|v| {
+                intersect_triangle(&PreparedRay::new(&ray), &v, q.tmin, q.tmax).map(|h| h.t)
+            });
+            let on_boundary = other.is_some_and(|[p0, p1, p2]| {
+                let point = (1.0 - a.u - a.v) * p0 + a.u * p1 + a.v * p2;
+                let slack = 1e-6;
+                aimed_at_edges
+                    && a.u >= -slack
+                    && a.v >= -slack
+                    && a.u + a.v <= 1.0 + slack
+                    && (point - (ray.origin + a.t * ray.dir)).length()
+                        <= tolerance * ray.dir.length()
+            });
+            assert!(
+                other_t.is_some_and(|t| (t - hit.t).abs() <= tolerance) || on_boundary,
+                "{name}: GPU hit triangle {} ({a:?}), CPU hit {hit:?} for {ray:?}",
+                a.triangle
+            );
+            ties += 1;
+        }
+    }
+    eprintln!(
+        "{name}: {} rays agree ({t_differences} with t a few ulps apart, {ties} ties at shared \
+         edges resolved to the neighbour)",
+        queries.len()
+    );
+}
+
+fn grid_cube() -> Vec<[Vec3; 3]> {
+    // A closed box whose faces are 3 x 3 grids: many shared edges and vertices.
+    let mut triangles = Vec::new();
+    let c = |i: usize| -1.0 + 2.0 * i as f32 / 3.0;
+    for axis in 0..3 {
+        for side in [-1.0f32, 1.0] {
+            let p = |i: usize, j: usize| {
+                let mut v = [0.0; 3];
+                v[axis] = side;
+                v[(axis + 1) % 3] = c(i);
+                v[(axis + 2) % 3] = c(j);
+                Vec3::from(v)
+            };
+            for i in 0..3 {
+                for j in 0..3 {
+                    triangles.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+                    triangles.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+                }
+            }
+        }
+    }
+    triangles
+}
+
+#[test]
+fn bvh_wgsl_on_the_gpu_matches_the_cpu_traversal() {
+    let gpu = gpu();
+    let cornell = load_scene(&root().join(DEFAULT_SCENE)).unwrap().to_gpu();
+    let mut rng = Rng(5);
+    let soup: Vec<[Vec3; 3]> = (0..3000)
+        .map(|_| {
+            let c = rng.vec(-10.0, 10.0);
+            [
+                c + rng.vec(-1.0, 1.0),
+                c + rng.vec(-1.0, 1.0),
+                c + rng.vec(-1.0, 1.0),
+            ]
+        })
+        .collect();
+    let soup = SceneGpu::build(&Mesh::from_triangles("soup", &soup));
+    let cube = SceneGpu::build(&Mesh::from_triangles("cube", &grid_cube()));
+    let scenes = [
+        ("cornell", &cornell, Vec3::ZERO, Vec3::splat(556.0)),
+        ("soup", &soup, Vec3::splat(-10.0), Vec3::splat(10.0)),
+        ("cube", &cube, Vec3::splat(-1.0), Vec3::splat(1.0)),
+    ];
+    for (seed, (name, scene, lo, hi)) in scenes.into_iter().enumerate() {
+        let queries = queries_for(scene, lo, hi, seed as u64);
+        let answers = run_on_gpu(&gpu, scene, &queries);
+        compare(name, scene, &queries, &answers, false);
+    }
+
+    // From inside the closed cube, through its shared vertices and edges: nothing leaks.
+    let mut queries = Vec::new();
+    for origin in [Vec3::ZERO, Vec3::new(0.3, -0.2, 0.1)] {
+        for t in &cube.triangles {
+            for k in 0..3 {
+                let [a, b] = [t.vertices()[k], t.vertices()[(k + 1) % 3]];
+                for target in [a, (a + b) * 0.5] {
+                    queries.push(Query {
+                        origin: origin.into(),
+                        tmin: 0.0,
+                        dir: (target - origin).into(),
+                        tmax: f32::MAX,
+                    });
+                }
+            }
+        }
+    }
+    let answers = run_on_gpu(&gpu, &cube, &queries);
+    assert!(
+        answers.iter().all(|a| a.triangle != u32::MAX && a.any == 1),
+        "a ray leaked out of the cube on the GPU"
+    );
+    compare("cube from inside", &cube, &queries, &answers, true);
+}
+
+#[test]
+fn bvh_wgsl_terminates_on_a_zero_padded_node_buffer() {
+    let gpu = gpu();
+    // What the executor binds for a scene whose buffers are empty: one zeroed element each.
+    let empty = SceneGpu::build(&Mesh::from_triangles(Path::new("empty"), &[]));
+    let padded = SceneGpu {
+        triangles: vec![Default::default()],
+        nodes: vec![Default::default()],
+        ..empty
+    };
+    let queries = [
+        Query {
+            origin: [0.0; 3],
+            tmin: 0.0,
+            dir: [1.0, 0.0, 0.0],
+            tmax: f32::MAX,
+        },
+        Query {
+            origin: [-1.0, 0.0, 0.0],
+            tmin: 0.0,
+            dir: [1.0, -0.0, 0.0],
+            tmax: 10.0,
+        },
+    ];
+    for a in run_on_gpu(&gpu, &padded, &queries) {
+        assert_eq!((a.triangle, a.any), (u32::MAX, 0));
+    }
+}

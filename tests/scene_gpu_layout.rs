@@ -1,0 +1,120 @@
+//! The Rust GPU structs against `shaders/lib/scene.wgsl` as naga lays it out: a field added,
+//! reordered or resized on one side only would corrupt every buffer silently.
+
+use passgraph::scene::{BvhNode, Frame, GpuCamera, Material, Triangle};
+use std::mem::{offset_of, size_of};
+use std::path::Path;
+
+/// (field name, byte offset, byte size) of each Rust field, in declaration order.
+macro_rules! fields {
+    ($ty:ty { $($field:ident),* $(,)? }) => {{
+        let value = <$ty as Default>::default();
+        vec![$((
+            stringify!($field),
+            offset_of!($ty, $field) as u32,
+            std::mem::size_of_val(&value.$field) as u32,
+        )),*]
+    }};
+}
+
+#[test]
+fn gpu_structs_match_scene_wgsl_byte_for_byte() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/lib/scene.wgsl");
+    let code = std::fs::read_to_string(&path).unwrap();
+    let module = naga::front::wgsl::parse_str(&code).expect("scene.wgsl parses");
+
+    let rust = [
+        (
+            "Triangle",
+            size_of::<Triangle>(),
+            fields!(Triangle {
+                p0,
+                material,
+                p1,
+                pad1,
+                p2,
+                pad2
+            }),
+        ),
+        (
+            "Material",
+            size_of::<Material>(),
+            fields!(Material {
+                kd,
+                ns,
+                ks,
+                pad0,
+                ke,
+                pad1
+            }),
+        ),
+        (
+            "BvhNode",
+            size_of::<BvhNode>(),
+            fields!(BvhNode { lo, a, hi, count }),
+        ),
+        (
+            "Camera",
+            size_of::<GpuCamera>(),
+            fields!(GpuCamera {
+                eye,
+                pad0,
+                forward,
+                pad1,
+                right,
+                pad2,
+                up,
+                pad3
+            }),
+        ),
+        (
+            "Frame",
+            size_of::<Frame>(),
+            fields!(Frame {
+                index,
+                accumulated,
+                width,
+                height,
+                seed,
+                pad0,
+                pad1,
+                pad2
+            }),
+        ),
+    ];
+    for (name, size, fields) in rust {
+        let ty = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("scene.wgsl has no struct {name}"))
+            .1;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        assert_eq!(*span as usize, size, "{name}: size");
+        let wgsl: Vec<(&str, u32, u32)> = members
+            .iter()
+            .map(|m| {
+                (
+                    m.name.as_deref().unwrap_or(""),
+                    m.offset,
+                    module.types[m.ty].inner.size(module.to_ctx()),
+                )
+            })
+            .collect();
+        assert_eq!(wgsl, fields, "{name}: fields (name, offset, size)");
+    }
+}
+
+#[test]
+fn gpu_structs_have_the_sizes_the_design_names() {
+    assert_eq!(size_of::<Triangle>(), 48);
+    assert_eq!(size_of::<Material>(), 48);
+    assert_eq!(size_of::<BvhNode>(), 32);
+    assert_eq!(size_of::<GpuCamera>(), 64);
+    assert_eq!(size_of::<Frame>(), 32);
+    // Pod: buffers are built by casting slices.
+    let nodes = [BvhNode::default(); 3];
+    assert_eq!(bytemuck::cast_slice::<BvhNode, u8>(&nodes).len(), 96);
+}
