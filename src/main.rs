@@ -1,7 +1,9 @@
 //! The `passgraph` command line: parse, call the library, print.
 
 use clap::{Parser, Subcommand};
+use passgraph::bench::metrics::image_error;
 use passgraph::render::channels::ChannelSelection;
+use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::PathBuf;
@@ -63,7 +65,7 @@ struct RenderArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
     /// Frames to accumulate (one sample per pixel each).
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES)]
     frames: u32,
     /// Image size, WxH.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
@@ -83,6 +85,9 @@ struct RenderArgs {
     /// Use the first adapter whose name contains this (also env PASSGRAPH_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// A linear EXR of the same size to report the error against (RMSE, relMSE, bias).
+    #[arg(long)]
+    reference: Option<PathBuf>,
 }
 
 fn render(args: RenderArgs) -> Result<(), String> {
@@ -93,6 +98,7 @@ fn render(args: RenderArgs) -> Result<(), String> {
         seed: args.seed,
         set: args.set,
         adapter: args.adapter,
+        max_frames: args.frames,
     };
     let mut session = Session::new(&settings).map_err(|e| e.to_string())?;
     let info = session.context().adapter_info();
@@ -127,6 +133,18 @@ fn render(args: RenderArgs) -> Result<(), String> {
     let dropped = session.dropped().map_err(|e| e.to_string())?;
     for path in &args.out {
         image.write(path)?;
+    }
+    if let Some(path) = &args.reference {
+        let reference = RgbImage::read_exr(path)?;
+        let e = image_error(&image, &reference).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!(
+            "error of {} against {}: RMSE {:.5}, relMSE {:.3e}, bias {:+.5}",
+            args.channel,
+            path.display(),
+            e.rmse,
+            e.relmse,
+            e.bias
+        );
     }
     let fps = f64::from(args.frames) / seconds;
     let rays = session.rays_per_frame_bound() as f64 * fps;

@@ -21,13 +21,14 @@ fn settings(scene: &str, size: u32, seed: u32, set: &[&str]) -> RenderSettings {
         seed,
         set: set.iter().map(|s| s.to_string()).collect(),
         adapter: None,
+        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
     }
 }
 
 fn render(s: &RenderSettings, frames: u32) -> Session {
     let mut session = Session::new(s).unwrap_or_else(|e| panic!("session: {e}"));
     for _ in 0..frames {
-        session.render_frame().unwrap();
+        assert!(session.render_frame().unwrap());
     }
     session
 }
@@ -235,4 +236,21 @@ fn settings_name_the_bad_instance_or_param() {
             .expect("should fail");
         assert!(err.to_string().contains(expect), "{err}");
     }
+}
+
+#[test]
+fn accumulation_stops_at_max_frames_and_a_camera_move_restarts_it() {
+    let mut s = settings(CORNELL, 8, 0, &[]);
+    s.max_frames = 3;
+    let mut session = render(&s, 3);
+    assert!(
+        !session.render_frame().unwrap(),
+        "a fourth frame is not accumulated"
+    );
+    assert!(session.result().unwrap().iter().all(|p| p[3] == 3.0));
+    let camera = session.scene_description().camera;
+    session.set_camera(camera).unwrap();
+    assert_eq!(session.accumulated(), 0);
+    assert!(session.render_frame().unwrap());
+    assert!(session.result().unwrap().iter().all(|p| p[3] == 1.0));
 }

@@ -1,22 +1,11 @@
 //! Every way setting up or running a plan on the GPU can fail, each naming the adapter, pass or
 //! resource at fault.
 
+use crate::graph::error::list;
 use thiserror::Error;
 
 /// What to tell a user whose machine exposes no adapter at all.
 pub const NO_ADAPTER_HINT: &str = "no GPU adapter found; on Debian/Ubuntu install Mesa's software Vulkan driver: apt-get install -y mesa-vulkan-drivers";
-
-fn list(items: &[String]) -> String {
-    if items.is_empty() {
-        "none".to_string()
-    } else {
-        items
-            .iter()
-            .map(|s| format!("'{s}'"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
 
 #[derive(Debug, Error)]
 pub enum GpuError {

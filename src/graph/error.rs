@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 use thiserror::Error;
 
-fn list(items: &[String]) -> String {
+/// `'a', 'b'` or `none`: how messages list names.
+pub(crate) fn list(items: &[String]) -> String {
     if items.is_empty() {
         "none".to_string()
     } else {

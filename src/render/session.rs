@@ -8,7 +8,7 @@ use crate::graph::error::GraphError;
 use crate::graph::load::load_graph;
 use crate::graph::plan::Plan;
 use crate::graph::set_param::set_param;
-use crate::scene::{Scene, SceneError, SceneGpu, load_scene};
+use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
 use std::path::PathBuf;
 use thiserror::Error;
 
@@ -35,6 +35,13 @@ pub struct RenderSettings {
     pub set: Vec<String>,
     /// Adapter name filter; `None` takes the default adapter.
     pub adapter: Option<String>,
+    /// The accumulation stops here (the seed's 1000); later frames cost nothing.
+    pub max_frames: u32,
+}
+
+impl RenderSettings {
+    /// The seed's accumulation limit.
+    pub const DEFAULT_MAX_FRAMES: u32 = 1000;
 }
 
 /// The result buffer's name and the dropped-sample counter's, as the path tracer graph
@@ -54,6 +61,7 @@ pub struct Session {
     index: u32,
     /// Frames in the current accumulation (0 after a reset).
     accumulated: u32,
+    max_frames: u32,
 }
 
 impl Session {
@@ -78,6 +86,7 @@ impl Session {
             seed: settings.seed,
             index: 0,
             accumulated: 0,
+            max_frames: settings.max_frames,
         })
     }
 
@@ -97,19 +106,33 @@ impl Session {
         self.accumulated
     }
 
-    /// Renders one frame and adds it to the accumulation.
-    pub fn render_frame(&mut self) -> Result<(), RenderError> {
+    /// Renders one frame and adds it to the accumulation; once `max_frames` are accumulated
+    /// it does nothing and returns false.
+    pub fn render_frame(&mut self) -> Result<bool, RenderError> {
+        if self.accumulated >= self.max_frames {
+            return Ok(false);
+        }
         let frame = frame_bytes(self.size, self.seed, self.index, self.accumulated);
         self.executor.update_uniform("frame", &frame)?;
         self.executor.run_frame(&self.ctx)?;
         self.index += 1;
         self.accumulated += 1;
-        Ok(())
+        Ok(true)
     }
 
     /// Starts the accumulation over (the next frame replaces the history).
     pub fn reset(&mut self) {
         self.accumulated = 0;
+    }
+
+    /// Moves the camera; the accumulation restarts, as any view change must.
+    pub fn set_camera(&mut self, camera: CameraDesc) -> Result<(), RenderError> {
+        let gpu = camera.to_gpu(self.size[0], self.size[1]);
+        self.executor
+            .update_uniform("camera", bytemuck::bytes_of(&gpu))?;
+        self.scene.camera = camera;
+        self.reset();
+        Ok(())
     }
 
     /// The accumulation buffer: planes of width*height [mean r, g, b, sample count].
