@@ -37,6 +37,9 @@ enum Command {
     Plan(GraphArgs),
     /// Render a scene progressively with a graph and write images.
     Render(RenderArgs),
+    /// Speed against error: render graph variants, measure the error against a reference at
+    /// log-spaced checkpoints, write CSVs, a log-log chart and a markdown report.
+    Bench(BenchArgs),
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -88,6 +91,103 @@ struct RenderArgs {
     /// A linear EXR of the same size to report the error against (RMSE, relMSE, bias).
     #[arg(long)]
     reference: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    scene: PathBuf,
+    /// A graph variant (repeatable).
+    #[arg(long = "graph", default_value = DEFAULT_GRAPH)]
+    graphs: Vec<PathBuf>,
+    /// Linear EXR reference of the scene at --size.
+    #[arg(long)]
+    reference: PathBuf,
+    /// Stop each variant after this much rendering time...
+    #[arg(long, conflicts_with = "frames")]
+    seconds: Option<f64>,
+    /// ...or after this many frames (default 256).
+    #[arg(long)]
+    frames: Option<u32>,
+    #[arg(long, default_value = "256x256", value_parser = parse_size)]
+    size: [u32; 2],
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Channels compared with the reference (the physical image by default).
+    #[arg(long, default_value = "l0+direct+indirect")]
+    channel: ChannelSelection,
+    /// Override a graph param in every variant: INSTANCE.PARAM=VALUE (repeatable).
+    #[arg(long = "set")]
+    set: Vec<String>,
+    /// A CSV from scripts/mitsuba-reference to put on the same chart and tables.
+    #[arg(long)]
+    mitsuba: Option<PathBuf>,
+    /// Output directory.
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+fn bench(args: BenchArgs) -> Result<(), String> {
+    use passgraph::bench::{plot, report, run, series::Series};
+    let reference = RgbImage::read_exr(&args.reference)?;
+    if [reference.width, reference.height] != args.size {
+        return Err(format!(
+            "{}: the reference is {}x{} but --size is {}x{}",
+            args.reference.display(),
+            reference.width,
+            reference.height,
+            args.size[0],
+            args.size[1]
+        ));
+    }
+    let budget = match (args.seconds, args.frames) {
+        (Some(s), _) => run::Budget::Seconds(s),
+        (None, f) => run::Budget::Frames(f.unwrap_or(256)),
+    };
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
+    let mut runs = Vec::new();
+    for graph in &args.graphs {
+        let label = graph
+            .file_stem()
+            .map_or("graph".to_string(), |s| s.to_string_lossy().into_owned());
+        let settings = RenderSettings {
+            graph: graph.clone(),
+            scene: args.scene.clone(),
+            size: args.size,
+            seed: args.seed,
+            set: args.set.clone(),
+            adapter: args.adapter.clone(),
+            max_frames: u32::MAX,
+        };
+        eprintln!("bench {label} ...");
+        let r = run::run(&label, &settings, &args.channel, &reference, budget)
+            .map_err(|e| e.to_string())?;
+        report::write_text(&args.out.join(format!("{label}.csv")), &report::run_csv(&r))?;
+        runs.push(r);
+    }
+    let mut extra = Vec::new();
+    if let Some(csv) = &args.mitsuba {
+        extra.push(Series::from_mitsuba_csv(
+            csv,
+            "Mitsuba 3 (llvm_ad_rgb, CPU)",
+        )?);
+    }
+    let all: Vec<Series> = runs
+        .iter()
+        .map(Series::from_run)
+        .chain(extra.iter().cloned())
+        .collect();
+    let chart = args.out.join("error-vs-time.png");
+    let scene_name = args.scene.display().to_string();
+    plot::write_plot(&chart, &format!("relMSE against time: {scene_name}"), &all)?;
+    let md = report::markdown(&runs, &extra);
+    report::write_text(&args.out.join("report.md"), &md)?;
+    print!("{md}");
+    eprintln!("wrote {}", args.out.display());
+    Ok(())
 }
 
 fn render(args: RenderArgs) -> Result<(), String> {
@@ -177,6 +277,7 @@ fn run(cli: Cli) -> Result<(), String> {
         |g: &GraphArgs| compile_file(&g.graph, g.size).map_err(|e: GraphError| e.to_string());
     match cli.command.unwrap_or(Command::Render(cli.render)) {
         Command::Render(args) => render(args)?,
+        Command::Bench(args) => bench(args)?,
         Command::Check(g) => {
             let p = plan(&g)?;
             println!(

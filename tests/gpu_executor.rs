@@ -332,6 +332,14 @@ fn stage_times_are_one_finite_non_negative_number_per_stage() {
         times.iter().all(|t| t.is_finite() && *t >= 0.0),
         "{times:?}"
     );
+    // lavapipe writes timestamps inside compute passes too: one time per kept pass.
+    let frame = executor.last_frame_times().expect("frame times");
+    let passes = frame.passes.expect("per-pass times on lavapipe");
+    assert_eq!(passes.len(), plan.passes.len());
+    assert!(
+        passes.iter().all(|t| t.is_finite() && *t >= 0.0),
+        "{passes:?}"
+    );
 }
 
 #[test]

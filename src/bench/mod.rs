@@ -1,3 +1,7 @@
-//! Measuring renders: error metrics against references.
+//! Measuring renders: error metrics against references, speed-against-error runs, reports.
 
 pub mod metrics;
+pub mod plot;
+pub mod report;
+pub mod run;
+pub mod series;

@@ -7,7 +7,7 @@ use super::error_scope::capture_errors;
 use super::pass::PreparedPass;
 use super::provided_data::ProvidedData;
 use super::resources::{GpuResources, write_padded};
-use super::timing::StageTimer;
+use super::timing::{FrameTimes, StageTimer};
 use crate::graph::plan::Plan;
 
 pub struct Executor {
@@ -50,7 +50,12 @@ impl Executor {
             passes,
             stages: plan.stages.clone(),
             stage_labels,
-            timer: StageTimer::new(ctx.device(), ctx.queue(), plan.stages.len()),
+            timer: StageTimer::new(
+                ctx.device(),
+                ctx.queue(),
+                plan.stages.len(),
+                plan.passes.len(),
+            ),
         })
     }
 
@@ -74,7 +79,13 @@ impl Executor {
                         compute.set_bind_group(*group, bind_group, &[]);
                     }
                     let [x, y, z] = pass.workgroups;
+                    if let Some(timer) = &self.timer {
+                        timer.write_pass(&mut compute, p, false);
+                    }
                     compute.dispatch_workgroups(x, y, z);
+                    if let Some(timer) = &self.timer {
+                        timer.write_pass(&mut compute, p, true);
+                    }
                 }
             }
             if let Some(timer) = &mut self.timer {
@@ -83,6 +94,16 @@ impl Executor {
             ctx.queue().submit([encoder.finish()]);
         })
         .map_err(|message| GpuError::Frame { message })
+    }
+
+    /// Blocks until every submitted frame has finished on the GPU (for timing).
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Frame {
+                message: e.to_string(),
+            })
     }
 
     /// Replaces the bytes of a provided uniform (e.g. `frame`, every frame). A uniform no kept
@@ -150,6 +171,12 @@ impl Executor {
     /// timestamp support or before the first frame. Waits for that frame, so call it now and
     /// then rather than every frame.
     pub fn last_stage_times_ms(&self) -> Option<Vec<f64>> {
+        Some(self.last_frame_times()?.stages)
+    }
+
+    /// GPU milliseconds per stage and, where the device times inside passes, per pass (plan
+    /// order) of the latest frame. Blocks like `last_stage_times_ms`.
+    pub fn last_frame_times(&self) -> Option<FrameTimes> {
         self.timer.as_ref()?.read_ms(&self.device, &self.queue)
     }
 }

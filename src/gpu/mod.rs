@@ -16,3 +16,4 @@ pub use context::GpuContext;
 pub use error::GpuError;
 pub use executor::Executor;
 pub use provided_data::ProvidedData;
+pub use timing::FrameTimes;

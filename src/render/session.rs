@@ -120,6 +120,16 @@ impl Session {
         Ok(true)
     }
 
+    /// Blocks until the GPU has finished every submitted frame.
+    pub fn wait(&self) -> Result<(), RenderError> {
+        Ok(self.executor.wait()?)
+    }
+
+    /// GPU milliseconds per stage and per pass of the latest frame (blocking).
+    pub fn last_frame_times(&self) -> Option<crate::gpu::FrameTimes> {
+        self.executor.last_frame_times()
+    }
+
     /// Starts the accumulation over (the next frame replaces the history).
     pub fn reset(&mut self) {
         self.accumulated = 0;

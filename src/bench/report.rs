@@ -1,0 +1,135 @@
+//! Bench outputs: a CSV per run and a markdown report (equal time, equal error, per pass).
+
+use super::run::Run;
+use super::series::Series;
+use crate::atomic_write::write_atomic;
+use std::fmt::Write;
+use std::path::Path;
+
+pub fn run_csv(run: &Run) -> String {
+    let mut out = String::from("frames,seconds,rmse,relmse,bias");
+    for name in &run.pass_names {
+        let _ = write!(out, ",gpu_ms_{name}");
+    }
+    out.push('\n');
+    for c in &run.checkpoints {
+        let _ = write!(
+            out,
+            "{},{:.6},{:.6e},{:.6e},{:.6e}",
+            c.frames, c.seconds, c.error.rmse, c.error.relmse, c.error.bias
+        );
+        for i in 0..run.pass_names.len() {
+            match c.pass_ms.as_ref().and_then(|ms| ms.get(i)) {
+                Some(ms) => {
+                    let _ = write!(out, ",{ms:.4}");
+                }
+                None => out.push(','),
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+pub fn write_text(path: &Path, text: &str) -> Result<(), String> {
+    write_atomic(path, text.as_bytes())
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+fn cell(v: Option<f64>, format: impl Fn(f64) -> String) -> String {
+    v.map_or("–".to_string(), format)
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// The markdown report: a summary per run, relMSE at equal times, times to equal errors
+/// (passgraph runs and any extra series such as Mitsuba), and GPU milliseconds per pass.
+pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
+    let mut out = String::new();
+    let all: Vec<Series> = runs
+        .iter()
+        .map(Series::from_run)
+        .chain(extra.iter().cloned())
+        .collect();
+    out.push_str("| variant | frames | seconds | frames/s | Mrays/s (at most) | RMSE | relMSE |\n|---|---|---|---|---|---|---|\n");
+    for r in runs {
+        if let Some(c) = r.checkpoints.last() {
+            let fps = r.frames_per_second();
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.2} | {:.1} | {:.1} | {:.4} | {:.2e} |",
+                r.label,
+                c.frames,
+                c.seconds,
+                fps,
+                r.rays_per_frame as f64 * fps / 1e6,
+                c.error.rmse,
+                c.error.relmse
+            );
+        }
+    }
+    for s in extra {
+        if let Some(p) = s.points.last() {
+            let _ = writeln!(
+                out,
+                "| {} | – | {:.2} | – | – | {:.4} | {:.2e} |",
+                s.label, p.seconds, p.rmse, p.relmse
+            );
+        }
+    }
+
+    let times = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
+    out.push_str(
+        "\nrelMSE at equal time (log-log interpolation between checkpoints):\n\n| variant |",
+    );
+    for t in times {
+        let _ = write!(out, " {t} s |");
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|".repeat(times.len()));
+    out.push('\n');
+    for s in &all {
+        let _ = write!(out, "| {} |", s.label);
+        for t in times {
+            let _ = write!(out, " {} |", cell(s.relmse_at(t), |v| format!("{v:.2e}")));
+        }
+        out.push('\n');
+    }
+
+    let errors = [1e-2, 3e-3, 1e-3, 7.2e-4, 3.6e-4, 1e-4];
+    out.push_str("\nSeconds to reach a relMSE:\n\n| variant |");
+    for e in errors {
+        let _ = write!(out, " {e:.1e} |");
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|".repeat(errors.len()));
+    out.push('\n');
+    for s in &all {
+        let _ = write!(out, "| {} |", s.label);
+        for e in errors {
+            let _ = write!(out, " {} |", cell(s.seconds_to(e), |v| format!("{v:.2}")));
+        }
+        out.push('\n');
+    }
+
+    out.push_str("\nGPU milliseconds per pass (timestamp queries; median over checkpoints):\n\n");
+    for r in runs {
+        let _ = writeln!(out, "- {}:", r.label);
+        for (i, name) in r.pass_names.iter().enumerate() {
+            let ms = median(
+                r.checkpoints
+                    .iter()
+                    .filter_map(|c| c.pass_ms.as_ref()?.get(i).copied())
+                    .collect(),
+            );
+            let _ = writeln!(out, "  - {name}: {}", cell(ms, |v| format!("{v:.2} ms")));
+        }
+    }
+    out
+}

@@ -1,0 +1,110 @@
+//! One speed-against-error run: render a graph, and at log-spaced frame counts measure the
+//! error against a reference. Only rendering is timed: each checkpoint waits for the GPU, stops
+//! the clock, then reads back and measures.
+
+use super::metrics::{ImageError, image_error};
+use crate::render::channels::ChannelSelection;
+use crate::render::image::RgbImage;
+use crate::render::session::{RenderError, RenderSettings, Session};
+use std::time::{Duration, Instant};
+
+/// When a run stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Budget {
+    Frames(u32),
+    Seconds(f64),
+}
+
+/// The error and cost after some frames.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checkpoint {
+    pub frames: u32,
+    /// Wall time of rendering only (submission and GPU work), readbacks excluded.
+    pub seconds: f64,
+    pub error: ImageError,
+    /// GPU milliseconds per kept pass in the latest frame (timestamp queries), if available.
+    pub pass_ms: Option<Vec<f64>>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Run {
+    pub label: String,
+    pub pass_names: Vec<String>,
+    pub checkpoints: Vec<Checkpoint>,
+    /// Upper bound of rays per frame (see `Session::rays_per_frame_bound`).
+    pub rays_per_frame: u64,
+    pub dropped: u32,
+}
+
+impl Run {
+    pub fn frames_per_second(&self) -> f64 {
+        self.checkpoints
+            .last()
+            .map_or(0.0, |c| f64::from(c.frames) / c.seconds)
+    }
+}
+
+/// Frame counts 1, 2, 4, ... : a checkpoint per doubling keeps readbacks to a log of the frames.
+pub fn next_checkpoint(frames: u32) -> u32 {
+    frames.max(1) * 2
+}
+
+/// Renders with `settings` until `budget`, measuring `channels` against `reference` at each
+/// checkpoint.
+pub fn run(
+    label: &str,
+    settings: &RenderSettings,
+    channels: &ChannelSelection,
+    reference: &RgbImage,
+    budget: Budget,
+) -> Result<Run, RenderError> {
+    let mut session = Session::new(settings)?;
+    let pass_names = session
+        .plan()
+        .passes
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    let mut checkpoints = Vec::new();
+    let mut rendering = Duration::ZERO;
+    let mut frames = 0u32;
+    let mut target = 1u32;
+    loop {
+        let start = Instant::now();
+        while frames < target {
+            if !session.render_frame()? {
+                break;
+            }
+            frames += 1;
+        }
+        session.wait()?;
+        rendering += start.elapsed();
+        let image = session.image(channels)?;
+        let error = image_error(&image, reference).map_err(RenderError::Other)?;
+        let pass_ms = session.last_frame_times().and_then(|t| t.passes);
+        checkpoints.push(Checkpoint {
+            frames,
+            seconds: rendering.as_secs_f64(),
+            error,
+            pass_ms,
+        });
+        let done = match budget {
+            Budget::Frames(n) => frames >= n,
+            Budget::Seconds(s) => rendering.as_secs_f64() >= s,
+        };
+        if done || frames < target {
+            break;
+        }
+        target = match budget {
+            Budget::Frames(n) => next_checkpoint(frames).min(n),
+            Budget::Seconds(_) => next_checkpoint(frames),
+        };
+    }
+    Ok(Run {
+        label: label.to_string(),
+        pass_names,
+        rays_per_frame: session.rays_per_frame_bound(),
+        dropped: session.dropped()?,
+        checkpoints,
+    })
+}

@@ -1,0 +1,156 @@
+//! Error-against-time curves, from passgraph runs or from Mitsuba's CSV, and reading them at
+//! equal time or equal error.
+
+use super::run::Run;
+use std::path::Path;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    pub seconds: f64,
+    pub rmse: f64,
+    pub relmse: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub label: String,
+    /// In increasing time.
+    pub points: Vec<Point>,
+}
+
+impl Series {
+    pub fn from_run(run: &Run) -> Series {
+        Series {
+            label: run.label.clone(),
+            points: run
+                .checkpoints
+                .iter()
+                .map(|c| Point {
+                    seconds: c.seconds,
+                    rmse: c.error.rmse,
+                    relmse: c.error.relmse,
+                })
+                .collect(),
+        }
+    }
+
+    /// Reads `scripts/mitsuba-reference`'s CSV (columns spp, seconds, ..., rmse, relmse).
+    pub fn from_mitsuba_csv(path: &Path, label: &str) -> Result<Series, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let column = |name: &str| {
+            header.iter().position(|h| *h == name).ok_or_else(|| {
+                format!(
+                    "{}: no '{name}' column (run the script with --reference)",
+                    path.display()
+                )
+            })
+        };
+        let (s, r, q) = (column("seconds")?, column("rmse")?, column("relmse")?);
+        let mut points = Vec::new();
+        for (i, line) in lines.enumerate() {
+            let cells: Vec<&str> = line.split(',').collect();
+            let number = |k: usize| {
+                cells
+                    .get(k)
+                    .and_then(|c| c.trim().parse::<f64>().ok())
+                    .ok_or_else(|| format!("{}:{}: bad number", path.display(), i + 2))
+            };
+            points.push(Point {
+                seconds: number(s)?,
+                rmse: number(r)?,
+                relmse: number(q)?,
+            });
+        }
+        points.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
+        Ok(Series {
+            label: label.to_string(),
+            points,
+        })
+    }
+
+    /// relMSE at `seconds`, interpolated log-log between measured points; `None` outside them.
+    pub fn relmse_at(&self, seconds: f64) -> Option<f64> {
+        interpolate(self.points.iter().map(|p| (p.seconds, p.relmse)), seconds)
+    }
+
+    /// Time to reach `relmse`, interpolated log-log; `None` if never reached. Error falls with
+    /// time only on average, so this takes the first crossing.
+    pub fn seconds_to(&self, relmse: f64) -> Option<f64> {
+        let first = self.points.first()?;
+        if first.relmse <= relmse {
+            return Some(first.seconds);
+        }
+        self.points.windows(2).find_map(|w| {
+            (w[1].relmse <= relmse).then(|| {
+                log_lerp(
+                    (w[0].relmse, w[0].seconds),
+                    (w[1].relmse, w[1].seconds),
+                    relmse,
+                )
+            })
+        })
+    }
+}
+
+fn log_lerp(a: (f64, f64), b: (f64, f64), x: f64) -> f64 {
+    let t = (x.ln() - a.0.ln()) / (b.0.ln() - a.0.ln());
+    (a.1.ln() + t * (b.1.ln() - a.1.ln())).exp()
+}
+
+fn interpolate(points: impl Iterator<Item = (f64, f64)>, x: f64) -> Option<f64> {
+    let points: Vec<(f64, f64)> = points.collect();
+    if points.len() == 1 && points[0].0 == x {
+        return Some(points[0].1);
+    }
+    points
+        .windows(2)
+        .find(|w| w[0].0 <= x && x <= w[1].0)
+        .map(|w| log_lerp(w[0], w[1], x))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series(points: &[(f64, f64)]) -> Series {
+        Series {
+            label: "s".into(),
+            points: points
+                .iter()
+                .map(|&(seconds, relmse)| Point {
+                    seconds,
+                    rmse: relmse.sqrt(),
+                    relmse,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn a_one_over_time_curve_interpolates_exactly_in_log_log() {
+        let s = series(&[(1.0, 1e-2), (100.0, 1e-4)]);
+        assert!((s.relmse_at(10.0).unwrap() - 1e-3).abs() < 1e-12);
+        assert!((s.seconds_to(1e-3).unwrap() - 10.0).abs() < 1e-9);
+        assert_eq!(s.relmse_at(1000.0), None);
+        assert_eq!(s.seconds_to(1e-5), None);
+    }
+
+    #[test]
+    fn mitsuba_csv_needs_error_columns() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.csv");
+        std::fs::write(&path, "spp,seconds\n1,0.1\n").unwrap();
+        let err = Series::from_mitsuba_csv(&path, "m").unwrap_err();
+        assert!(err.contains("'rmse'"), "{err}");
+        std::fs::write(
+            &path,
+            "spp,seconds,rmse,relmse\n4,0.4,0.1,0.02\n1,0.1,0.2,0.08\n",
+        )
+        .unwrap();
+        let s = Series::from_mitsuba_csv(&path, "m").unwrap();
+        assert_eq!(s.points[0].seconds, 0.1, "sorted by time");
+    }
+}
