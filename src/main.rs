@@ -203,15 +203,26 @@ fn render(args: RenderArgs) -> Result<(), String> {
     let mut session = Session::new(&settings).map_err(|e| e.to_string())?;
     let info = session.context().adapter_info();
     let scene = session.scene();
+    let bvh = &scene.bvh;
+    let scene_bytes = size_of_val(scene.triangles.as_slice())
+        + size_of_val(scene.materials.as_slice())
+        + size_of_val(scene.lights.as_slice())
+        + size_of_val(scene.nodes.as_slice());
+    eprintln!("adapter: {} ({:?})", info.name, info.backend);
     eprintln!(
-        "adapter: {} ({:?}); scene: {} triangles, {} lights, {} BVH nodes; specialised: scene_light_count={}, scene_has_specular={}",
-        info.name,
-        info.backend,
-        scene.triangles.len(),
+        "scene: {} triangles ({} degenerate), {} lights; BVH {} nodes, depth {}, built in {:.1} ms; {} bytes on the GPU ({:.1} per triangle)",
+        bvh.triangle_count,
+        bvh.degenerate_count,
         scene.light_count,
-        scene.nodes.len(),
-        scene.light_count,
-        scene.has_specular
+        bvh.node_count,
+        bvh.max_depth,
+        bvh.build_time.as_secs_f64() * 1e3,
+        scene_bytes,
+        scene_bytes as f64 / bvh.triangle_count.max(1) as f64
+    );
+    eprintln!(
+        "specialised: scene_light_count={}, scene_has_specular={}",
+        scene.light_count, scene.has_specular
     );
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
