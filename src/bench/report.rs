@@ -57,17 +57,18 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
         .map(Series::from_run)
         .chain(extra.iter().cloned())
         .collect();
-    out.push_str("| variant | frames | seconds | frames/s | Mrays/s (at most) | RMSE | relMSE |\n|---|---|---|---|---|---|---|\n");
+    out.push_str("| variant | frames | seconds | frames/s | CPU ms/frame | Mrays/s (at most) | RMSE | relMSE |\n|---|---|---|---|---|---|---|---|\n");
     for r in runs {
         if let Some(c) = r.checkpoints.last() {
             let fps = r.frames_per_second();
             let _ = writeln!(
                 out,
-                "| {} | {} | {:.2} | {:.1} | {:.1} | {:.4} | {:.2e} |",
+                "| {} | {} | {:.2} | {:.1} | {:.2} | {:.1} | {:.4} | {:.2e} |",
                 r.label,
                 c.frames,
                 c.seconds,
                 fps,
+                r.cpu_ms_per_frame,
                 r.rays_per_frame as f64 * fps / 1e6,
                 c.error.rmse,
                 c.error.relmse
@@ -78,7 +79,7 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
         if let Some(p) = s.points.last() {
             let _ = writeln!(
                 out,
-                "| {} | – | {:.2} | – | – | {:.4} | {:.2e} |",
+                "| {} | – | {:.2} | – | – | – | {:.4} | {:.2e} |",
                 s.label, p.seconds, p.rmse, p.relmse
             );
         }

@@ -33,6 +33,8 @@ pub struct Run {
     pub checkpoints: Vec<Checkpoint>,
     /// Upper bound of rays per frame (see `Session::rays_per_frame_bound`).
     pub rays_per_frame: u64,
+    /// CPU milliseconds per frame to record and submit it (the GPU works meanwhile).
+    pub cpu_ms_per_frame: f64,
     pub dropped: u32,
 }
 
@@ -67,12 +69,16 @@ pub fn run(
         .collect();
     let mut checkpoints = Vec::new();
     let mut rendering = Duration::ZERO;
+    let mut submitting = Duration::ZERO;
     let mut frames = 0u32;
     let mut target = 1u32;
     loop {
         let start = Instant::now();
         while frames < target {
-            if !session.render_frame()? {
+            let submit = Instant::now();
+            let rendered = session.render_frame()?;
+            submitting += submit.elapsed();
+            if !rendered {
                 break;
             }
             frames += 1;
@@ -104,6 +110,7 @@ pub fn run(
         label: label.to_string(),
         pass_names,
         rays_per_frame: session.rays_per_frame_bound(),
+        cpu_ms_per_frame: submitting.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
         dropped: session.dropped()?,
         checkpoints,
     })
