@@ -1,21 +1,19 @@
 //! `shaders/lib/bvh.wgsl`: it validates with naga through the include step, and on a GPU
-//! (lavapipe in CI) it answers exactly as the CPU traversal in `scene::intersect` does.
+//! (lavapipe in CI) it answers exactly as the CPU traversal in `scene::intersect` does. The GPU
+//! harness lives in tests/robust_common/bvh_gpu.rs, shared with the robustness suites.
 
+#[path = "robust_common/bvh_gpu.rs"]
+mod bvh_gpu;
+
+use bvh_gpu::{Query, check_shader, compare, gpu, run_on_gpu};
 use glam::Vec3;
 use passgraph::graph::interface::BindingKind;
 use passgraph::graph::reflect::reflect;
-use passgraph::graph::shader_source::ShaderSource;
-use passgraph::scene::intersect::{PreparedRay, intersect_triangle};
-use passgraph::scene::{DEFAULT_SCENE, Mesh, Ray, SceneGpu, load_scene};
+use passgraph::scene::{DEFAULT_SCENE, Mesh, SceneGpu, load_scene};
 use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn check_shader() -> ShaderSource {
-    let path = root().join("tests/data/scenes/bvh_check.wgsl");
-    ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve")
 }
 
 #[test]
@@ -55,124 +53,6 @@ fn bvh_wgsl_defines_only_its_documented_names() {
             }
         }
     }
-}
-
-/// Matches `Query` in bvh_check.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Query {
-    origin: [f32; 3],
-    tmin: f32,
-    dir: [f32; 3],
-    tmax: f32,
-}
-
-/// Matches `Answer` in bvh_check.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct Answer {
-    t: f32,
-    u: f32,
-    v: f32,
-    triangle: u32,
-    any: u32,
-    pad: [u32; 3],
-}
-
-struct Gpu {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-}
-
-/// The GPU these tests need; without one they fail (CI installs lavapipe) rather than skip.
-fn gpu() -> Gpu {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let adapter =
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .expect("no GPU adapter: install mesa-vulkan-drivers for lavapipe");
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
-            .expect("the adapter gives a device");
-    Gpu { device, queue }
-}
-
-/// Runs bvh_check.wgsl over `queries` against `scene`.
-fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer> {
-    use wgpu::util::DeviceExt;
-    let device = &gpu.device;
-    let storage = |label: &str, bytes: &[u8]| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytes,
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-    };
-    let triangles = storage("triangles", bytemuck::cast_slice(&scene.triangles));
-    let nodes = storage("bvh", bytemuck::cast_slice(&scene.nodes));
-    let query_buffer = storage("queries", bytemuck::cast_slice(queries));
-    let size = (queries.len() * size_of::<Answer>()) as u64;
-    let answers = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("answers"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("bvh_check"),
-        source: wgpu::ShaderSource::Wgsl(check_shader().code.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("bvh_check"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: triangles.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: nodes.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: query_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: answers.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(queries.len().div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&answers, 0, &readback, 0, size);
-    gpu.queue.submit([encoder.finish()]);
-    readback.map_async(wgpu::MapMode::Read, .., |result| result.expect("map"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll");
-    let answers = bytemuck::cast_slice(&readback.get_mapped_range(..).expect("mapped")).to_vec();
-    readback.unmap();
-    answers
 }
 
 /// A small deterministic generator (SplitMix64).
@@ -241,85 +121,6 @@ fn queries_for(scene: &SceneGpu, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Query> {
         push(origin, dir, 0.0, tmax);
     }
     queries
-}
-
-/// Compares GPU answers with the CPU traversal. WGSL lets the GPU compiler fuse a multiply
-/// and an add, and its division need not be correctly rounded, so t may differ in its last
-/// bits; where several triangles are hit at (almost) the same t (a shared vertex or edge), that
-/// can pick another of them. Anything else must agree exactly.
-fn compare(
-    name: &str,
-    scene: &SceneGpu,
-    queries: &[Query],
-    answers: &[Answer],
-    aimed_at_edges: bool,
-) {
-    let (mut t_differences, mut ties) = (0, 0);
-    for (q, a) in queries.iter().zip(answers) {
-        let ray = Ray {
-            origin: q.origin.into(),
-            dir: q.dir.into(),
-        };
-        let cpu = scene.closest_hit(&ray, q.tmin, q.tmax);
-        let any = scene.any_hit(&ray, q.tmin, q.tmax);
-        assert_eq!(a.any != 0, any, "{name}: any_hit differs for {ray:?}");
-        let Some(hit) = cpu else {
-            assert_eq!(
-                a.triangle,
-                u32::MAX,
-                "{name}: GPU hit, CPU missed: {ray:?} {a:?}"
-            );
-            continue;
-        };
-        // t is a weighted mean of the vertices' distances along the ray, so its rounding
-        // error scales with the farthest vertex, not with t.
-        let reach = scene.triangles[hit.triangle as usize]
-            .vertices()
-            .iter()
-            .map(|p| (*p - ray.origin).length() / ray.dir.length())
-            .fold(hit.t.abs(), f32::max);
-        let tolerance = 64.0 * f32::EPSILON * reach;
-        assert!(
-            (a.t - hit.t).abs() <= tolerance,
-            "{name}: t {} vs {} for {ray:?}",
-            a.t,
-            hit.t
-        );
-        t_differences += usize::from(a.t != hit.t);
-        if a.triangle != hit.triangle {
-            // Another triangle is acceptable only where the two meet: the CPU hits it at the
-            // same t too, or (rays aimed at shared edges) the GPU's barycentrics put the hit on
-            // that triangle's boundary, at the same point.
-            let other = scene
-                .triangles
-                .get(a.triangle as usize)
-                .map(|t| t.vertices());
-            let other_t = other.and_then(|v| {
-                intersect_triangle(&PreparedRay::new(&ray), &v, q.tmin, q.tmax).map(|h| h.t)
-            });
-            let on_boundary = other.is_some_and(|[p0, p1, p2]| {
-                let point = (1.0 - a.u - a.v) * p0 + a.u * p1 + a.v * p2;
-                let slack = 1e-6;
-                aimed_at_edges
-                    && a.u >= -slack
-                    && a.v >= -slack
-                    && a.u + a.v <= 1.0 + slack
-                    && (point - (ray.origin + a.t * ray.dir)).length()
-                        <= tolerance * ray.dir.length()
-            });
-            assert!(
-                other_t.is_some_and(|t| (t - hit.t).abs() <= tolerance) || on_boundary,
-                "{name}: GPU hit triangle {} ({a:?}), CPU hit {hit:?} for {ray:?}",
-                a.triangle
-            );
-            ties += 1;
-        }
-    }
-    eprintln!(
-        "{name}: {} rays agree ({t_differences} with t a few ulps apart, {ties} ties at shared \
-         edges resolved to the neighbour)",
-        queries.len()
-    );
 }
 
 fn grid_cube() -> Vec<[Vec3; 3]> {

@@ -6,11 +6,15 @@
 //   #include "lib/bvh.wgsl"
 //   @group(G) @binding(B) var<storage, read> triangles: array<Triangle>;   // scene.triangles
 //   @group(G) @binding(C) var<storage, read> bvh: array<BvhNode>;          // scene.bvh
-// `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax).
-// Names other than Hit, closest_hit and any_hit start with `bvh_`.
+// `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax)
+// and beyond the bound on t's own rounding error (see bvh_intersect_triangle). Names other
+// than Hit, closest_hit and any_hit start with `bvh_`.
 //
-// Nothing here forms an infinity or a NaN from finite input: WGSL lets a GPU return anything
-// for an operation that would.
+// Nothing here forms an infinity or a NaN from finite input (vertices within 1e14 of the ray
+// origin): WGSL lets a GPU return anything for an operation that would. The edge functions'
+// exactness does not depend on whether the compiler fuses multiply-adds or rewrites float
+// algebra (see bvh_two_product); on lavapipe the GPU answers bit for bit as the CPU twin
+// (tests/bvh_wgsl.rs, tests/robust_geometry.rs).
 
 // A hit: ray parameter t, barycentrics u (of p1) and v (of p2), so the point is
 // (1 - u - v) p0 + u p1 + v p2, and the triangle's index. On a miss triangle is BVH_NO_HIT
@@ -73,19 +77,81 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
         ky = k;
     }
     let shear = vec3<f32>(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+    bvh_zero = select(0u, 1u, all(dir == vec3<f32>(0.0)));
     return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear);
 }
 
-// a * b - c * d with the sign of the exact result, and exactly 0 only when that is (Kahan's
-// algorithm; relative error at most 2 ulps when fma is fused). The single-precision stand-in
-// for the paper's double-precision fallback, used for every edge function.
-fn bvh_difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let error = fma(-c, d, cd);
-    return fma(a, b, -cd) + error;
+// 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the
+// direction, which is never zero): see bvh_opaque.
+var<private> bvh_zero: u32;
+
+// Returns x, hidden from the compiler's algebra. WGSL lets a compiler treat float arithmetic
+// as exact, and Mesa (lavapipe) does: it folds c - (c - a) to a, factors a * b + a * c and
+// reorders sums, each of which would undo the exact arithmetic below (the edge functions then
+// lose their accuracy: t on a 100 x 2e-4 needle was off by 6.7e4 ulps of its reach).
+fn bvh_opaque(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) | bvh_zero);
 }
 
-// Watertight ray/triangle test (Woop, Benthin, Wald 2013), two-sided, no epsilon.
+// Veltkamp's split: a = hi + lo exactly, each with at most 12 significant bits, so that the
+// product of two halves is exact.
+fn bvh_split(a: f32) -> vec2<f32> {
+    let c = 4097.0 * a;
+    let hi = bvh_opaque(c - bvh_opaque(c - a));
+    return vec2<f32>(hi, a - hi);
+}
+
+// The rounding error of p = a * b, exactly (Dekker's TwoProduct), from the halves of a and b:
+// WGSL does not promise that fma is fused (lavapipe's is not), so the error cannot come from
+// fma(a, b, -p). Every product here is exact, so fusing any of them changes nothing.
+fn bvh_product_error(a: vec2<f32>, b: vec2<f32>, p: f32) -> f32 {
+    // Each partial sum is exact in this order only: opaque, so that the compiler neither
+    // factors a.x * b.x + a.x * b.y into a.x * b nor reorders the sum.
+    let e1 = bvh_opaque(bvh_opaque(a.x * b.x) - p);
+    let e2 = bvh_opaque(e1 + bvh_opaque(a.x * b.y));
+    let e3 = bvh_opaque(e2 + bvh_opaque(a.y * b.x));
+    return e3 + a.y * b.y;
+}
+
+// a * b - c * d from the values and their splits, with the sign of the exact result, exactly 0
+// only when that is, and relative error at most 2 ulps: (p_ab - p_cd) is exact when the
+// products are within a factor of 2 of each other (Sterbenz) and dominates the error terms
+// otherwise. Swapping (a, b) with (c, d) negates the result exactly, so two triangles sharing
+// an edge always see it with opposite signs. The single-precision stand-in for the paper's
+// double-precision fallback, used for every edge function; src/scene/intersect.rs computes the
+// same bits.
+fn bvh_difference_of_products(
+    a: f32, sa: vec2<f32>, b: f32, sb: vec2<f32>,
+    c: f32, sc: vec2<f32>, d: f32, sd: vec2<f32>,
+) -> f32 {
+    // Opaque products: a GPU with a fused fma could otherwise contract p_ab - p_cd into
+    // fma(a, b, -p_cd), which already holds a * b's error and would count it twice.
+    let ab = bvh_opaque(a * b);
+    let cd = bvh_opaque(c * d);
+    let error = bvh_product_error(sa, sb, ab) - bvh_product_error(sc, sd, cd);
+    return bvh_opaque(ab - cd) + bvh_opaque(error);
+}
+
+// pbrt's gamma(n) = n u / (1 - n u), u = 2^-24: the relative error of n roundings (the same
+// f32 values as src/scene/intersect.rs).
+const BVH_GAMMA2: f32 = 1.192093e-7;
+const BVH_GAMMA3: f32 = 1.7881396e-7;
+const BVH_GAMMA5: f32 = 2.980233e-7;
+
+// A bound on the rounding error of the triangle test's t (PBR 3rd ed., section 3.9.6, with the
+// unscaled depths max_z bounding the shear's error so that dir need not be normalised): a hit
+// no farther than this may lie behind the origin.
+fn bvh_t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_zt: f32, max_e: f32, rcp: f32) -> f32 {
+    let delta_x = BVH_GAMMA5 * (max_x + max_z);
+    let delta_y = BVH_GAMMA5 * (max_y + max_z);
+    let delta_z = BVH_GAMMA3 * max_zt;
+    let delta_e = 2.0 * (BVH_GAMMA2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    return 3.0 * (BVH_GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * abs(rcp);
+}
+
+// Watertight ray/triangle test (Woop, Benthin, Wald 2013), two-sided, no epsilon. A hit
+// nearer than the bound on t's own rounding error is rejected, as in pbrt: it may be the
+// surface the ray starts on (self-intersection), however the origin was offset.
 fn bvh_intersect_triangle(
     ray: BvhRay,
     p0: vec3<f32>,
@@ -106,10 +172,17 @@ fn bvh_intersect_triangle(
     let cx = c[ray.kx] - s.x * c[ray.kz];
     let cy = c[ray.ky] - s.y * c[ray.kz];
 
-    // Scaled barycentrics: the signed areas spanned by the origin and each edge.
-    let u = bvh_difference_of_products(cx, by, cy, bx);
-    let v = bvh_difference_of_products(ax, cy, ay, cx);
-    let w = bvh_difference_of_products(bx, ay, by, ax);
+    // Scaled barycentrics: the signed areas spanned by the origin and each edge. Each
+    // coordinate takes part in two of them: split once.
+    let sax = bvh_split(ax);
+    let say = bvh_split(ay);
+    let sbx = bvh_split(bx);
+    let sby = bvh_split(by);
+    let scx = bvh_split(cx);
+    let scy = bvh_split(cy);
+    let u = bvh_difference_of_products(cx, scx, by, sby, cy, scy, bx, sbx);
+    let v = bvh_difference_of_products(ax, sax, cy, scy, ay, say, cx, scx);
+    let w = bvh_difference_of_products(bx, sbx, ay, say, by, sby, ax, sax);
     if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) {
         return result;
     }
@@ -124,6 +197,14 @@ fn bvh_intersect_triangle(
     let rcp = 1.0 / det;
     let t = t_scaled * rcp;
     if (!(t > tmin && t < tmax)) {
+        return result;
+    }
+    let max_x = max(abs(ax), max(abs(bx), abs(cx)));
+    let max_y = max(abs(ay), max(abs(by), abs(cy)));
+    let max_z = max(abs(a[ray.kz]), max(abs(b[ray.kz]), abs(c[ray.kz])));
+    let max_zt = max(abs(az), max(abs(bz), abs(cz)));
+    let max_e = max(abs(u), max(abs(v), abs(w)));
+    if (t <= bvh_t_error_bound(max_x, max_y, max_z, max_zt, max_e, rcp)) {
         return result;
     }
     result = BvhTriangleHit(true, t, v * rcp, w * rcp);

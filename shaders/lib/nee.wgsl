@@ -25,9 +25,12 @@ fn direct_light(s: Surface, wo: vec3<f32>, rng: ptr<function, u32>) -> vec3<f32>
         if cos_x <= 0.0 || cos_y <= 0.0 {
             continue;
         }
-        let dist = sqrt(d2);
-        // Stop just short of the light so it does not occlude itself.
-        if any_hit(origin, wi, 0.0, dist * (1.0 - 1e-4)) {
+        // The shadow ray ends just short of the sample point moved off the light, to its front
+        // (the side this point is on), by offset_ray's few hundred ulps: q is rounded by a few
+        // ulps of its coordinates, which far from the origin (1e5) can put it behind the
+        // light's plane, and the light would occlude itself.
+        let end = offset_ray(q, nl);
+        if any_hit(origin, end - origin, 0.0, 1.0 - 1e-4) {
             continue;
         }
         let le = materials[light.material].ke;

@@ -1,5 +1,7 @@
-//! Progressive rendering: sessions over a compiled graph and a scene, and image output.
+//! Progressive rendering: sessions over a compiled graph and a scene, image output, and the
+//! accumulate pass's arithmetic on the CPU.
 
+pub mod accumulate;
 pub mod channels;
 pub mod image;
 pub mod session;

@@ -156,6 +156,12 @@ impl Session {
         Ok(RgbImage::from_result(&self.result()?, w, h, channels))
     }
 
+    /// Any graph resource's content after every submitted frame, blocking (see
+    /// [`Executor::read_resource`]): for graphs with outputs of their own, e.g. test counters.
+    pub fn read_resource(&self, name: &str) -> Result<Vec<u8>, RenderError> {
+        Ok(self.executor.read_resource(name)?)
+    }
+
     /// Samples dropped so far because a channel was NaN or infinite.
     pub fn dropped(&self) -> Result<u32, RenderError> {
         let bytes = self.executor.read_resource(DROPPED)?;

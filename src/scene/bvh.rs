@@ -38,22 +38,32 @@ pub struct BvhStats {
     pub max_leaf_triangles: usize,
     /// All triangles, degenerate ones included.
     pub triangle_count: usize,
-    /// Zero-area (or non-finite) triangles, kept in the buffer but in no leaf.
+    /// Degenerate triangles ([`is_degenerate`]: zero area, a normal too small or too large to
+    /// normalise in f32), kept in the buffer but in no leaf.
     pub degenerate_count: usize,
 }
 
 /// Whether a triangle has no area the renderer can use: a non-finite vertex, or a normal
-/// `cross(p1 - p0, p2 - p0)` whose squared length is not a normal positive f32 (coincident or
-/// collinear vertices, or so small that normalising it would divide by zero on a GPU that
-/// flushes denormals). Such triangles are never returned as hits.
+/// `n = cross(p1 - p0, p2 - p0)` that a GPU cannot normalise. That is: coincident or collinear
+/// vertices (`|n|² = 0`); `|n|²` below [`MIN_NORMAL_LENGTH_SQUARED`], where every squared
+/// component may be subnormal and a GPU that flushes subnormals (WGSL allows it) computes
+/// `|n| = 0` and a NaN normal; or `|n|²` overflowing f32 (edges longer than about 4e9), where
+/// `normalize` gives NaN too. Such triangles are never returned as hits and never emit.
 pub fn is_degenerate(v: &[Vec3; 3]) -> bool {
     if !v.iter().all(|p| p.is_finite()) {
         return true;
     }
     let normal = (v[1] - v[0]).cross(v[2] - v[0]);
     let length_squared = normal.length_squared();
-    length_squared.is_nan() || length_squared < f32::MIN_POSITIVE
+    // NaN is in no range, so it counts as degenerate too.
+    !(MIN_NORMAL_LENGTH_SQUARED..=f32::MAX).contains(&length_squared)
 }
+
+/// The smallest `|n|²` a usable triangle may have: 4 × the smallest normal f32. Three squared
+/// components each below `f32::MIN_POSITIVE` (each flushable to 0) sum to less than 3 × it,
+/// so at least one component's square is a normal number, with room for the GPU rounding the
+/// cross product differently.
+pub const MIN_NORMAL_LENGTH_SQUARED: f32 = 4.0 * f32::MIN_POSITIVE;
 
 /// What the build needs of one triangle.
 #[derive(Clone, Copy)]

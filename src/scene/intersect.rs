@@ -2,8 +2,10 @@
 //! watertight ray/triangle test (Woop, Benthin, Wald 2013), a conservative slab test, and the
 //! stackless traversal of the threaded BVH. Also the brute-force oracle the tests compare with.
 //!
-//! Every computation here avoids infinities and NaN for finite input, because WGSL lets a GPU
-//! return anything for an operation that would produce them.
+//! Every computation here avoids infinities and NaN for finite input (within 1e14 of the ray
+//! origin), because WGSL lets a GPU return anything for an operation that would produce them.
+//! The triangle test also rejects hits nearer than the bound on t's own rounding error, so a
+//! ray never hits the surface it leaves (tests/robust_render.rs counts it).
 
 use super::bvh::is_degenerate;
 use super::gpu::{BvhNode, Triangle};
@@ -97,17 +99,55 @@ impl PreparedRay {
     }
 }
 
-/// `a * b - c * d` with the sign of the exact result, and exactly 0 only when the exact result
-/// is (Kahan's algorithm with fused multiply-adds: relative error at most 2 ulps). This is the
+/// `a * b` exactly, as the rounded product and its error (`bvh_two_product` in bvh.wgsl, which
+/// gets the same error from exact products of halves because WGSL's fma need not be fused).
+fn two_product(a: f32, b: f32) -> (f32, f32) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+/// `a * b - c * d` with the sign of the exact result, exactly 0 only when that is, and relative
+/// error at most 2 ulps: `p_ab - p_cd` is exact when the products are within a factor of 2
+/// (Sterbenz) and dominates the error terms otherwise. Swapping `(a, b)` with `(c, d)` negates
+/// it exactly, so neighbours across a shared edge see it with opposite signs. The
 /// single-precision stand-in for the paper's double-precision fallback, used for every edge
-/// function so that no rounding can make two neighbours both miss.
+/// function so that no rounding can make two neighbours both miss; bit for bit what bvh.wgsl
+/// computes.
 fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let error = (-c).mul_add(d, cd);
-    a.mul_add(b, -cd) + error
+    let (ab, ab_error) = two_product(a, b);
+    let (cd, cd_error) = two_product(c, d);
+    (ab - cd) + (ab_error - cd_error)
+}
+
+/// pbrt's gamma(n) = n u / (1 - n u) with u = 2^-24: a bound on the relative error of n
+/// roundings. Const-evaluated in f32; bvh.wgsl spells the same f32 values.
+const fn gamma(n: f32) -> f32 {
+    let u = f32::EPSILON * 0.5;
+    n * u / (1.0 - n * u)
+}
+const GAMMA2: f32 = gamma(2.0);
+const GAMMA3: f32 = gamma(3.0);
+const GAMMA5: f32 = gamma(5.0);
+
+/// A bound on the rounding error of the t the triangle test computes (Pharr, Jakob and
+/// Humphreys, PBR 3rd ed., §3.9.6, with the unscaled depths `max_z` bounding the shear's
+/// error, so that the direction need not be normalised): a hit with t no larger than this may
+/// lie behind the origin. `max_x`, `max_y`: largest sheared |x|, |y| of the vertices; `max_z`:
+/// largest |depth| before scaling by 1/dir[kz]; `max_zt`: after; `max_e`: largest |edge
+/// function|; `rcp`: 1 / det.
+fn t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_zt: f32, max_e: f32, rcp: f32) -> f32 {
+    let delta_x = GAMMA5 * (max_x + max_z);
+    let delta_y = GAMMA5 * (max_y + max_z);
+    let delta_z = GAMMA3 * max_zt;
+    let delta_e = 2.0 * (GAMMA2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    3.0 * (GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
 }
 
 /// The watertight ray/triangle test, two-sided, with no epsilon: a hit with t in (tmin, tmax).
+/// A hit nearer than the bound on t's own rounding error ([`t_error_bound`]) is rejected as
+/// pbrt does: it may be the surface the ray starts on (self-intersection), and the bound is
+/// what a ray origin offset off that surface cannot be trusted to beat (it grows with the
+/// triangle's size relative to the origin, e.g. on a floor through a coordinate plane).
 pub fn intersect_triangle(
     ray: &PreparedRay,
     vertices: &[Vec3; 3],
@@ -144,6 +184,14 @@ pub fn intersect_triangle(
     let rcp = 1.0 / det;
     let t = t_scaled * rcp;
     if !(t > tmin && t < tmax) {
+        return None;
+    }
+    let max_x = ax.abs().max(bx.abs()).max(cx.abs());
+    let max_y = ay.abs().max(by.abs()).max(cy.abs());
+    let max_z = a[kz].abs().max(b[kz].abs()).max(c[kz].abs());
+    let max_zt = az.abs().max(bz.abs()).max(cz.abs());
+    let max_e = u.abs().max(v.abs()).max(w.abs());
+    if t <= t_error_bound(max_x, max_y, max_z, max_zt, max_e, rcp) {
         return None;
     }
     Some(TriangleHit {
