@@ -312,12 +312,41 @@ fn run(cli: Cli) -> Result<(), String> {
     Ok(())
 }
 
+/// Mesa's Vulkan drivers print "XDG_RUNTIME_DIR is invalid or not set" when probing window
+/// systems, which reads like an error of ours on a headless machine. Give them a private,
+/// valid directory when the session has none; returns it, to be removed at exit.
+fn quiet_mesa_without_a_session() -> Option<PathBuf> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("passgraph-runtime-{}", std::process::id()));
+    #[cfg(unix)]
+    let made = {
+        use std::os::unix::fs::DirBuilderExt;
+        std::fs::DirBuilder::new().mode(0o700).create(&dir).is_ok()
+    };
+    #[cfg(not(unix))]
+    let made = false;
+    if !made {
+        return None;
+    }
+    // SAFETY: called first thing in main, before any other thread exists.
+    unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+    Some(dir)
+}
+
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let runtime_dir = quiet_mesa_without_a_session();
+    let code = match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE
         }
+    };
+    if let Some(dir) = runtime_dir {
+        // Best effort: nothing should have been written there.
+        let _ = std::fs::remove_dir_all(dir);
     }
+    code
 }
