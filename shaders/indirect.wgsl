@@ -5,6 +5,7 @@
 #include "lib/sampling.wgsl"
 #include "lib/brdf.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/ray_count.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
 #include "lib/nee.wgsl"
@@ -16,9 +17,9 @@
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
 @group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);
     if any(id.xy >= textureDimensions(out)) {
         return;
@@ -41,4 +42,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         value = weight * direct_light(s2, -d, &rng);
     }
     textureStore(out, pixel, vec4<f32>(value, 1.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+) {
+    shade(id);
+    count_rays(local_index);
 }

@@ -3,6 +3,7 @@
 #include "lib/scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/ray_count.wgsl"
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> frame: Frame;
@@ -10,9 +11,9 @@
 @group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read_write>;
+@group(0) @binding(6) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn shade(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
         return;
     }
@@ -37,4 +38,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(rays, pixel, 0, vec4<f32>(camera.eye, 0.0));
     textureStore(rays, pixel, 1, vec4<f32>(dir, 0.0));
     textureStore(rays, pixel, 2, vec4<f32>(hit.t, hit.u, hit.v, bitcast<f32>(hit.triangle)));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+) {
+    shade(id);
+    count_rays(local_index);
 }

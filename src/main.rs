@@ -257,12 +257,17 @@ fn render(args: RenderArgs) -> Result<(), String> {
             e.bias
         );
     }
-    let fps = f64::from(args.frames) / seconds;
-    let rays = session.rays_per_frame_bound() as f64 * fps;
+    let frames = session.accumulated();
+    let fps = f64::from(frames) / seconds;
+    let rays = match session.rays_counted().map_err(|e| e.to_string())? {
+        Some(counted) => format!("{:.2} Mrays/s (counted)", counted as f64 / seconds / 1e6),
+        None => format!(
+            "{:.2} Mrays/s (at most)",
+            session.rays_per_frame_bound() as f64 * fps / 1e6
+        ),
+    };
     println!(
-        "{} frames in {seconds:.2} s: {fps:.1} frames/s, {:.1} Mrays/s (at most), {dropped} dropped samples; wrote {}",
-        args.frames,
-        rays / 1e6,
+        "{frames} frames in {seconds:.2} s: {fps:.1} frames/s, {rays}, {dropped} dropped samples; wrote {}",
         args.out
             .iter()
             .map(|p| p.display().to_string())

@@ -70,6 +70,18 @@ fn furnace_gives_le_times_one_rho_rho_squared() {
         );
     }
     assert_eq!(session.dropped().unwrap(), 0);
+    // Rays, as the passes count them: per pixel and frame 1 primary ray, 10 shadow rays from
+    // the primary hit (the 12 emitting triangles minus the 2 coplanar with the hit, where
+    // cos = 0 casts nothing), and 1 bounce plus 10 shadow rays from the second hit: 22.
+    let expected = 22 * 32 * 32 * 64;
+    let counted = session
+        .rays_counted()
+        .unwrap()
+        .expect("the passes count rays");
+    assert!(
+        counted <= expected && counted as f64 >= 0.999 * expected as f64,
+        "{counted} rays counted, {expected} expected"
+    );
 }
 
 const CORNELL: &str = "scenes/cornell/scene.ron";
@@ -204,6 +216,7 @@ fn scene_without_emitters_is_black_and_casts_no_shadow_rays() {
     assert!(img.pixels.iter().flatten().all(|&v| v == 0.0));
     // Only the primary rays remain: no shadow rays, no bounce.
     assert_eq!(session.rays_per_frame_bound(), 32 * 32);
+    assert_eq!(session.rays_counted().unwrap(), Some(32 * 32 * 4));
 }
 
 #[test]

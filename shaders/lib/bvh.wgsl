@@ -241,7 +241,11 @@ fn bvh_miss_link(node: BvhNode, i: u32) -> u32 {
 
 // The nearest hit with t in (tmin, tmax); ties go to the smaller triangle index, so the
 // answer does not depend on the order triangles are visited in.
+// Rays this invocation traced: passes that count rays add it to their `ray_count` buffer.
+var<private> bvh_rays_traced: u32;
+
 fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
+    bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
     var best = Hit(tmax, 0.0, 0.0, BVH_NO_HIT);
     let node_count = arrayLength(&bvh);
@@ -272,6 +276,7 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
 
 // Whether anything is hit with t in (tmin, tmax): shadow and ambient-occlusion rays.
 fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
+    bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
     let node_count = arrayLength(&bvh);
     let triangle_count = arrayLength(&triangles);

@@ -31,8 +31,10 @@ pub struct Run {
     pub label: String,
     pub pass_names: Vec<String>,
     pub checkpoints: Vec<Checkpoint>,
-    /// Upper bound of rays per frame (see `Session::rays_per_frame_bound`).
-    pub rays_per_frame: u64,
+    /// Rays per frame: counted by the passes where they count (`rays_counted`), otherwise the
+    /// upper bound `Session::rays_per_frame_bound`.
+    pub rays_per_frame: f64,
+    pub rays_counted: bool,
     /// CPU milliseconds per frame to record and submit it (the GPU works meanwhile).
     pub cpu_ms_per_frame: f64,
     pub dropped: u32,
@@ -106,10 +108,14 @@ pub fn run(
             Budget::Seconds(_) => next_checkpoint(frames),
         };
     }
+    let counted = session.rays_counted()?;
     Ok(Run {
         label: label.to_string(),
         pass_names,
-        rays_per_frame: session.rays_per_frame_bound(),
+        rays_per_frame: counted.map_or(session.rays_per_frame_bound() as f64, |c| {
+            c as f64 / f64::from(frames.max(1))
+        }),
+        rays_counted: counted.is_some(),
         cpu_ms_per_frame: submitting.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
         dropped: session.dropped()?,
         checkpoints,

@@ -171,6 +171,26 @@ impl Session {
             .ok_or_else(|| RenderError::Other("the dropped counter is empty".into()))
     }
 
+    /// Rays traced so far, as counted by the passes that bind a `ray_count` buffer (see
+    /// shaders/lib/ray_count.wgsl); `None` if no pass counts. Blocks until the GPU is done.
+    pub fn rays_counted(&self) -> Result<Option<u64>, RenderError> {
+        let mut total = None;
+        for pass in &self.plan.passes {
+            let Some(binding) = pass.bindings.iter().find(|b| b.name == "ray_count") else {
+                continue;
+            };
+            let name = &self.plan.resources[binding.resource].name;
+            let bytes = self.executor.read_resource(name)?;
+            let word = |i: usize| {
+                bytes.get(4 * i..4 * i + 4).map_or(0, |b| {
+                    u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                })
+            };
+            *total.get_or_insert(0) += word(0) | (word(1) << 32);
+        }
+        Ok(total)
+    }
+
     /// Rays one frame casts at most: a primary ray per pixel, a shadow ray per light for
     /// direct light, a bounce plus a shadow ray per light for indirect light, and an ambient
     /// ray when ambient light is on. Misses and back-facing lights cast fewer.
