@@ -57,24 +57,19 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
         .map(Series::from_run)
         .chain(extra.iter().cloned())
         .collect();
-    out.push_str("| variant | frames | seconds | frames/s | CPU ms/frame | Mrays/s | RMSE | relMSE |\n|---|---|---|---|---|---|---|---|\n");
+    out.push_str("| variant | frames | seconds | frames/s | CPU ms/frame | Mrays/s (counted) | RMSE | relMSE |\n|---|---|---|---|---|---|---|---|\n");
     for r in runs {
         if let Some(c) = r.checkpoints.last() {
             let fps = r.frames_per_second();
             let _ = writeln!(
                 out,
-                "| {} | {} | {:.2} | {:.1} | {:.2} | {:.2} {} | {:.4} | {:.2e} |",
+                "| {} | {} | {:.2} | {:.1} | {:.2} | {} | {:.4} | {:.2e} |",
                 r.label,
                 c.frames,
                 c.seconds,
                 fps,
                 r.cpu_ms_per_frame,
-                r.rays_per_frame * fps / 1e6,
-                if r.rays_counted {
-                    "(counted)"
-                } else {
-                    "(at most)"
-                },
+                cell(r.rays_per_frame, |rays| format!("{:.2}", rays * fps / 1e6)),
                 c.error.rmse,
                 c.error.relmse
             );

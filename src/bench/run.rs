@@ -31,10 +31,8 @@ pub struct Run {
     pub label: String,
     pub pass_names: Vec<String>,
     pub checkpoints: Vec<Checkpoint>,
-    /// Rays per frame: counted by the passes where they count (`rays_counted`), otherwise the
-    /// upper bound `Session::rays_per_frame_bound`.
-    pub rays_per_frame: f64,
-    pub rays_counted: bool,
+    /// Rays per frame as the passes counted them; `None` if no pass counts.
+    pub rays_per_frame: Option<f64>,
     /// CPU milliseconds per frame to record and submit it (the GPU works meanwhile).
     pub cpu_ms_per_frame: f64,
     pub dropped: u32,
@@ -112,10 +110,7 @@ pub fn run(
     Ok(Run {
         label: label.to_string(),
         pass_names,
-        rays_per_frame: counted.map_or(session.rays_per_frame_bound() as f64, |c| {
-            c as f64 / f64::from(frames.max(1))
-        }),
-        rays_counted: counted.is_some(),
+        rays_per_frame: counted.map(|c| c as f64 / f64::from(frames.max(1))),
         cpu_ms_per_frame: submitting.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
         dropped: session.dropped()?,
         checkpoints,

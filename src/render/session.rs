@@ -191,32 +191,6 @@ impl Session {
         Ok(total)
     }
 
-    /// Rays one frame casts at most: a primary ray per pixel, a shadow ray per light for
-    /// direct light, a bounce plus a shadow ray per light for indirect light, and an ambient
-    /// ray when ambient light is on. Misses and back-facing lights cast fewer.
-    pub fn rays_per_frame_bound(&self) -> u64 {
-        let pixels = u64::from(self.size[0]) * u64::from(self.size[1]);
-        let lights = u64::from(self.gpu_scene.light_count);
-        let mut per_pixel = 0;
-        for pass in &self.plan.passes {
-            per_pixel += match pass.name.as_str() {
-                "intersect" => 1,
-                "direct" => lights,
-                "indirect" if lights > 0 => 1 + lights,
-                "ambient" => match pass.params.get("ambient_color") {
-                    Some(crate::graph::param::ParamValue::Vec3(r, g, b))
-                        if (*r, *g, *b) != (0.0, 0.0, 0.0) =>
-                    {
-                        1
-                    }
-                    _ => 0,
-                },
-                _ => 0,
-            };
-        }
-        pixels * per_pixel
-    }
-
     pub fn scene_description(&self) -> &Scene {
         &self.scene
     }
