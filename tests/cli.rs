@@ -34,8 +34,10 @@ fn plan_prints_the_three_stages_of_the_seed_graph() {
 }
 
 #[test]
-fn check_succeeds_on_every_fixture_graph() {
-    for entry in std::fs::read_dir(fixtures().join("graphs")).unwrap() {
+fn check_succeeds_on_every_fixture_and_project_graph() {
+    let project = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
+    let dirs = [fixtures().join("graphs"), project];
+    for entry in dirs.iter().flat_map(|d| std::fs::read_dir(d).unwrap()) {
         let path = entry.unwrap().path();
         let out = passgraph(&["check", path.to_str().unwrap()]);
         assert!(
