@@ -8,6 +8,7 @@
 #include "lib/ray_count.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/light_sample.wgsl"
 #include "lib/nee.wgsl"
 
 @group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
