@@ -14,9 +14,9 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(2) var<storage, read> materials: array<Material>;
-@group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(1) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(2) var materials: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
 @group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
@@ -32,12 +32,12 @@ fn shade(id: vec3<u32>) {
         textureStore(out, pixel, vec4<f32>(0.0));
         return;
     }
-    let s = surface_at(triangles[ray.triangle], ray.u, ray.v, ray.dir);
+    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
     var rng = rng_stream(textureLoad(seeds, pixel).x, 1u);
     let d = sample_cosine(s.n, rng_next(&rng), rng_next(&rng));
     var value = vec3<f32>(0.0);
     if !any_hit(offset_ray(s.p, s.n), d, 0.0, params.radius) {
-        value = materials[s.material].kd * params.ambient_color;
+        value = scene_material(materials, s.material).kd * params.ambient_color;
     }
     textureStore(out, pixel, vec4<f32>(value, 1.0));
 }

@@ -11,10 +11,10 @@
 #include "lib/light_sample.wgsl"
 #include "lib/nee.wgsl"
 
-@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(1) var<storage, read> materials: array<Material>;
-@group(0) @binding(2) var<storage, read> lights: array<u32>;
-@group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var materials: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(2) var lights: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
 @group(0) @binding(6) var l0: texture_storage_2d<rgba32float, write>;
@@ -32,8 +32,8 @@ fn shade(id: vec3<u32>) {
         textureStore(out, pixel, vec4<f32>(0.0));
         return;
     }
-    let s = surface_at(triangles[ray.triangle], ray.u, ray.v, ray.dir);
-    let emitted = select(vec3<f32>(0.0), materials[s.material].ke, s.front);
+    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
+    let emitted = select(vec3<f32>(0.0), scene_material(materials, s.material).ke, s.front);
     var rng = rng_stream(textureLoad(seeds, pixel).x, 2u);
     let lit = direct_light(s, -ray.dir, &rng);
     textureStore(l0, pixel, vec4<f32>(emitted, 1.0));

@@ -11,10 +11,10 @@
 #include "lib/light_sample.wgsl"
 #include "lib/nee.wgsl"
 
-@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(1) var<storage, read> materials: array<Material>;
-@group(0) @binding(2) var<storage, read> lights: array<u32>;
-@group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var materials: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(2) var lights: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
 @group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
@@ -31,15 +31,15 @@ fn shade(id: vec3<u32>) {
         textureStore(out, pixel, vec4<f32>(0.0));
         return;
     }
-    let s = surface_at(triangles[ray.triangle], ray.u, ray.v, ray.dir);
+    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
     var rng = rng_stream(textureLoad(seeds, pixel).x, 3u);
     let d = sample_cosine(s.n, rng_next(&rng), rng_next(&rng));
     let second = closest_hit(offset_ray(s.p, s.n), d, 0.0, 3.0e38);
     var value = vec3<f32>(0.0);
     if second.triangle != NO_HIT {
-        let s2 = surface_at(triangles[second.triangle], second.u, second.v, d);
+        let s2 = surface_at(scene_triangle(triangles, second.triangle), second.u, second.v, d);
         // f * cos / pdf with pdf = cos / pi.
-        let weight = brdf(materials[s.material], s.n, -ray.dir, d) * PI;
+        let weight = brdf(scene_material(materials, s.material), s.n, -ray.dir, d) * PI;
         value = weight * direct_light(s2, -d, &rng);
     }
     textureStore(out, pixel, vec4<f32>(value, 1.0));

@@ -7,8 +7,8 @@
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> frame: Frame;
-@group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(3) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read_write>;
 @group(0) @binding(6) var<storage, read_write> ray_count: array<atomic<u32>, 2>;

@@ -7,7 +7,8 @@ mod bvh_gpu;
 
 use bvh_gpu::{Query, check_shader, compare, gpu, run_on_gpu};
 use glam::Vec3;
-use passgraph::graph::interface::BindingKind;
+use passgraph::graph::format::{TextureDim, TextureFormat};
+use passgraph::graph::interface::{Access, BindingKind};
 use passgraph::graph::reflect::reflect;
 use passgraph::scene::{DEFAULT_SCENE, Mesh, SceneGpu, load_scene};
 use std::path::{Path, PathBuf};
@@ -22,16 +23,26 @@ fn bvh_wgsl_validates_with_naga_when_included_after_scene_wgsl() {
     let interface = reflect(&source, "main").unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = interface.bindings.iter().map(|b| b.name.as_str()).collect();
     assert_eq!(names, ["triangles", "bvh", "queries", "answers"]);
-    // Runtime-sized arrays of the scene.wgsl structs: one element is the fixed part.
-    let sizes: Vec<u64> = interface
-        .bindings
+    // The scene as texel views (read-only Rgba32Uint storage textures).
+    for b in &interface.bindings[..2] {
+        assert_eq!(
+            b.kind,
+            BindingKind::StorageTexture {
+                access: Access::Read,
+                format: TextureFormat::Rgba32Uint,
+                dim: TextureDim::D2,
+            },
+            "{}",
+            b.name
+        );
+    }
+    let overrides: Vec<&str> = interface
+        .overrides
         .iter()
-        .map(|b| match b.kind {
-            BindingKind::Storage { min_size, .. } => min_size,
-            ref other => panic!("{other:?}"),
-        })
+        .map(|o| o.name.as_str())
         .collect();
-    assert_eq!(sizes[..2], [48, 32]);
+    assert!(overrides.contains(&"scene_node_count"), "{overrides:?}");
+    assert!(overrides.contains(&"scene_triangle_count"), "{overrides:?}");
 }
 
 #[test]

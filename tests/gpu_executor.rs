@@ -352,3 +352,38 @@ fn an_adapter_filter_matching_nothing_lists_the_adapters() {
     assert!(message.contains("'no such adapter 1234'"), "{message}");
     assert!(message.contains(&ctx().adapter_info().name), "{message}");
 }
+
+#[test]
+fn texel_views_hold_a_provided_buffer_word_for_word_across_rows() {
+    // 16,385 texels: more than one row on any device (rows are at most 16,384 texels wide on
+    // lavapipe, 8,192 under WebGPU's defaults), with a partial last texel.
+    let words: Vec<u32> = (0..4 * 16_385 - 3)
+        .map(|i: u32| i.wrapping_mul(0x9e37_79b9))
+        .collect();
+    let max_row = ctx().device().limits().max_texture_dimension_2d;
+    assert!(
+        16_385 > max_row,
+        "rows of {max_row} texels: the view fits one row"
+    );
+    let mut provided =
+        ProvidedData::default().with_buffer("scene.triangles", bytemuck::cast_slice(&words));
+    // scene.wgsl declares the scene overrides; their values do not matter here.
+    for name in passgraph::graph::provided::PROVIDED_OVERRIDES
+        .iter()
+        .map(|o| o.name)
+    {
+        provided = provided.with_override(name, 0.0);
+    }
+    let plan = plan("gpu_texel_view.ron", [512, 512]);
+    let mut executor = executor(&plan, &provided);
+    run_frames(&mut executor, 1);
+    let copies: Vec<u32> = bytemuck::cast_slice(&read(&executor, "copies")).to_vec();
+    const WORDS: usize = 262_144;
+    for (form, copy) in ["buffer", "storage texel view", "sampled texel view"]
+        .iter()
+        .zip(copies.chunks_exact(WORDS))
+    {
+        let mismatch = (0..words.len()).find(|&i| copy[i] != words[i]);
+        assert_eq!(mismatch, None, "{form}: first differing word");
+    }
+}

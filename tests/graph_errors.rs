@@ -596,3 +596,29 @@ fn scene_override_of_the_wrong_type_is_an_error() {
         ],
     );
 }
+
+#[test]
+fn provided_buffer_bound_to_a_float_texture_names_the_texel_view_forms() {
+    let s = Scratch::new();
+    s.edit(
+        "shaders/intersect.wgsl",
+        "var<storage, read> bvh: array<vec4<f32>>",
+        "var bvh: texture_2d<f32>",
+    );
+    s.edit(
+        "shaders/intersect.wgsl",
+        "bvh[0].x",
+        "textureLoad(bvh, vec2<u32>(0u), 0).x",
+    );
+    let (_, msg) = s.error(SEED);
+    assert_mentions(
+        &msg,
+        &[
+            "pass 'intersect'",
+            "'bvh'",
+            "'scene.bvh'",
+            "texture_2d<u32>",
+            "16-byte texels",
+        ],
+    );
+}

@@ -2,10 +2,10 @@
 // CPU twin of this file, operation for operation; tests hold both to a brute-force oracle.
 //
 // Contract with the including shader:
-//   #include "lib/scene.wgsl"     // first: Triangle and BvhNode
-//   #include "lib/bvh.wgsl"
-//   @group(G) @binding(B) var<storage, read> triangles: array<Triangle>;   // scene.triangles
-//   @group(G) @binding(C) var<storage, read> bvh: array<BvhNode>;          // scene.bvh
+//   #include "lib/scene.wgsl"     // first: Triangle, BvhNode, the texel-view readers, and
+//   #include "lib/bvh.wgsl"       // the overrides scene_triangle_count and scene_node_count
+//   @group(G) @binding(B) var triangles: texture_storage_2d<rgba32uint, read>;   // scene.triangles (texel view)
+//   @group(G) @binding(C) var bvh: texture_storage_2d<rgba32uint, read>;         // scene.bvh (texel view)
 // `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax)
 // and beyond the bound on t's own rounding error (see bvh_intersect_triangle). Names other
 // than Hit, closest_hit and any_hit start with `bvh_`.
@@ -248,12 +248,12 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
     var best = Hit(tmax, 0.0, 0.0, BVH_NO_HIT);
-    let node_count = arrayLength(&bvh);
-    let triangle_count = arrayLength(&triangles);
+    let node_count = scene_node_count;
+    let triangle_count = scene_triangle_count;
     var i = 0u;
     // Every step increases i, so this runs at most node_count times.
     while (i < node_count) {
-        let node = bvh[i];
+        let node = scene_node(bvh, i);
         if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, best.t)) {
             i = bvh_miss_link(node, i);
             continue;
@@ -262,8 +262,8 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
             let first = min(node.a, triangle_count);
             let end = first + min(node.count, triangle_count - first);
             for (var k = first; k < end; k = k + 1u) {
-                let tri = triangles[k];
-                let h = bvh_intersect_triangle(ray, tri.p0, tri.p1, tri.p2, tmin, tmax);
+                let p = scene_triangle_vertices(triangles, k);
+                let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
                 if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle))) {
                     best = Hit(h.t, h.u, h.v, k);
                 }
@@ -278,11 +278,11 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
 fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
-    let node_count = arrayLength(&bvh);
-    let triangle_count = arrayLength(&triangles);
+    let node_count = scene_node_count;
+    let triangle_count = scene_triangle_count;
     var i = 0u;
     while (i < node_count) {
-        let node = bvh[i];
+        let node = scene_node(bvh, i);
         if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax)) {
             i = bvh_miss_link(node, i);
             continue;
@@ -291,8 +291,8 @@ fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
             let first = min(node.a, triangle_count);
             let end = first + min(node.count, triangle_count - first);
             for (var k = first; k < end; k = k + 1u) {
-                let tri = triangles[k];
-                if (bvh_intersect_triangle(ray, tri.p0, tri.p1, tri.p2, tmin, tmax).hit) {
+                let p = scene_triangle_vertices(triangles, k);
+                if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit) {
                     return true;
                 }
             }

@@ -15,7 +15,7 @@ struct LightSample {
 
 // Draws two random numbers whatever the outcome, so streams stay aligned across passes.
 fn sample_light(s: Surface, origin: vec3<f32>, i: u32, rng: ptr<function, u32>) -> LightSample {
-    let light = triangles[lights[i]];
+    let light = scene_triangle(triangles, scene_light(lights, i));
     let u1 = rng_next(rng);
     let u2 = rng_next(rng);
     let q = sample_triangle(light.p0, light.p1, light.p2, u1, u2);

@@ -2,6 +2,8 @@
 
 // Set by the framework from the scene (pipeline-overridable constants).
 override scene_light_count: u32 = 0u;
+override scene_triangle_count: u32 = 0u;
+override scene_node_count: u32 = 0u;
 override scene_has_specular: bool = true;
 
 // One triangle, in BVH order; `material` indexes `scene.materials`.
@@ -57,4 +59,55 @@ struct Frame {
     pad0: u32,
     pad1: u32,
     pad2: u32,
+}
+
+// Texel views: a pass may bind scene.triangles, scene.materials, scene.lights and scene.bvh as
+// texture_storage_2d<rgba32uint, read> instead of storage buffers, and read them with the functions below. The
+// framework stores the same bytes as 16-byte texels, row-major, in rows of a power-of-two
+// width (src/gpu/texels.rs). Texel fetches are several times cheaper than storage-buffer loads
+// on lavapipe, which gathers the latter lane by lane.
+
+// Texel i of a texel view.
+fn scene_texel(view: texture_storage_2d<rgba32uint, read>, i: u32) -> vec4<u32> {
+    let width = textureDimensions(view).x;
+    return textureLoad(view, vec2<u32>(i & (width - 1u), i >> countTrailingZeros(width)));
+}
+
+// Triangle i of a scene.triangles view (3 texels each).
+fn scene_triangle(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Triangle {
+    let a = scene_texel(view, 3u * i);
+    let b = scene_texel(view, 3u * i + 1u);
+    let c = scene_texel(view, 3u * i + 2u);
+    return Triangle(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
+                    bitcast<vec3<f32>>(c.xyz), c.w);
+}
+
+// The three vertices of triangle i only (what ray tests need).
+fn scene_triangle_vertices(view: texture_storage_2d<rgba32uint, read>, i: u32) -> array<vec3<f32>, 3> {
+    return array<vec3<f32>, 3>(
+        bitcast<vec3<f32>>(scene_texel(view, 3u * i).xyz),
+        bitcast<vec3<f32>>(scene_texel(view, 3u * i + 1u).xyz),
+        bitcast<vec3<f32>>(scene_texel(view, 3u * i + 2u).xyz),
+    );
+}
+
+// Material i of a scene.materials view (3 texels each).
+fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Material {
+    let a = scene_texel(view, 3u * i);
+    let b = scene_texel(view, 3u * i + 1u);
+    let c = scene_texel(view, 3u * i + 2u);
+    return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz),
+                    bitcast<f32>(b.w), bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w));
+}
+
+// Entry i of a scene.lights view (four u32 per texel).
+fn scene_light(view: texture_storage_2d<rgba32uint, read>, i: u32) -> u32 {
+    return scene_texel(view, i >> 2u)[i & 3u];
+}
+
+// Node i of a scene.bvh view (2 texels each).
+fn scene_node(view: texture_storage_2d<rgba32uint, read>, i: u32) -> BvhNode {
+    let a = scene_texel(view, 2u * i);
+    let b = scene_texel(view, 2u * i + 1u);
+    return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
 }

@@ -10,6 +10,7 @@ mod pass;
 pub mod provided_data;
 mod readback;
 mod resources;
+pub mod texels;
 mod timing;
 
 pub use context::GpuContext;

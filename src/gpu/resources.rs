@@ -1,6 +1,6 @@
 //! The plan's memory on the GPU: one texture or buffer per physical object (transient
-//! resources with disjoint lifetimes share one), one buffer per provided resource the kept
-//! passes bind, and uploads to and readback from them by resource name.
+//! resources with disjoint lifetimes share one), one buffer and/or texel view per provided
+//! resource the kept passes bind, and uploads to and readback from them by resource name.
 
 use super::context::GpuContext;
 use super::convert::{texture_format, view_dimension};
@@ -8,6 +8,7 @@ use super::error::GpuError;
 use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::readback::read_mapped;
+use super::texels::create_texel_view;
 use crate::graph::deps::ResourceId;
 use crate::graph::format::{TextureDim, TextureFormat};
 use crate::graph::interface::BindingKind;
@@ -51,7 +52,14 @@ pub struct GpuResources {
     resources: Vec<PlannedResource>,
     /// By index into `Plan::physical`.
     objects: Vec<GpuObject>,
-    provided: BTreeMap<ResourceId, wgpu::Buffer>,
+    provided: BTreeMap<ResourceId, ProvidedObject>,
+}
+
+/// A provided resource in the forms its bindings ask for.
+struct ProvidedObject {
+    buffer: Option<wgpu::Buffer>,
+    /// The bytes as `Rgba32Uint` texels, for `texture_2d<u32>` bindings (see `texels`).
+    texels: Option<wgpu::Texture>,
 }
 
 impl GpuResources {
@@ -84,12 +92,26 @@ impl GpuResources {
                     pass: need.first_pass.clone(),
                     resource: name.clone(),
                 })?;
-            let buffer = capture_errors(device, || create_provided(device, name, &need, bytes))
-                .map_err(|message| GpuError::CreateResource {
-                    name: name.clone(),
-                    message,
-                })?;
-            provided.insert(id, buffer);
+            let create_error = |message| GpuError::CreateResource {
+                name: name.clone(),
+                message,
+            };
+            let buffer = need
+                .as_buffer
+                .then(|| capture_errors(device, || create_provided(device, name, &need, bytes)))
+                .transpose()
+                .map_err(create_error)?;
+            let texels = need
+                .as_texels
+                .then(|| {
+                    capture_errors(device, || {
+                        create_texel_view(device, ctx.queue(), name, bytes)
+                    })
+                    .and_then(|texture| texture)
+                })
+                .transpose()
+                .map_err(create_error)?;
+            provided.insert(id, ProvidedObject { buffer, texels });
         }
         Ok(GpuResources {
             resources: plan.resources.clone(),
@@ -101,8 +123,22 @@ impl GpuResources {
     /// The GPU object behind one of a pass's bindings.
     pub fn bind(&self, binding: &PlannedBinding) -> Result<BoundResource<'_>, GpuError> {
         let resource = &self.resources[binding.resource];
-        if let Some(buffer) = self.provided.get(&binding.resource) {
-            return Ok(BoundResource::Buffer(buffer));
+        if let Some(object) = self.provided.get(&binding.resource) {
+            // provided_needs made every form a kept binding asks for.
+            let missing = || GpuError::Unallocated {
+                name: resource.name.clone(),
+            };
+            return Ok(if binding.kind.is_texture() {
+                BoundResource::View(
+                    object
+                        .texels
+                        .as_ref()
+                        .ok_or_else(missing)?
+                        .create_view(&Default::default()),
+                )
+            } else {
+                BoundResource::Buffer(object.buffer.as_ref().ok_or_else(missing)?)
+            });
         }
         let physical = resource.physical.ok_or_else(|| GpuError::Unallocated {
             name: resource.name.clone(),
@@ -142,7 +178,7 @@ impl GpuResources {
                     .map(|r| r.name.clone())
                     .collect(),
             })?;
-        Ok(self.provided.get(&id))
+        Ok(self.provided.get(&id).and_then(|o| o.buffer.as_ref()))
     }
 
     /// Replaces the whole content of a graph-owned resource; `bytes` must be exactly its size
@@ -369,6 +405,10 @@ struct ProvidedNeed {
     /// part (one element of a runtime-sized array).
     min_size: u64,
     first_pass: String,
+    /// Bound as a buffer (storage or uniform) by some pass.
+    as_buffer: bool,
+    /// Bound as a texel view (`texture_2d<u32>`) by some pass.
+    as_texels: bool,
 }
 
 fn provided_needs(plan: &Plan) -> BTreeMap<ResourceId, ProvidedNeed> {
@@ -387,8 +427,15 @@ fn provided_needs(plan: &Plan) -> BTreeMap<ResourceId, ProvidedNeed> {
                 kind,
                 min_size: 0,
                 first_pass: pass.name.clone(),
+                as_buffer: false,
+                as_texels: false,
             });
             need.min_size = need.min_size.max(min_size);
+            if b.kind.is_texture() {
+                need.as_texels = true;
+            } else {
+                need.as_buffer = true;
+            }
         }
     }
     needs

@@ -3,7 +3,7 @@
 use super::decl::{Dispatch, PassInstanceDecl};
 use super::deps::ResourceId;
 use super::error::GraphError;
-use super::format::TextureDim;
+use super::format::{SampleKind, TextureDim, TextureFormat};
 use super::interface::{Access, BindingKind};
 use super::load::LoadedPass;
 use super::param::ParamValue;
@@ -265,6 +265,19 @@ fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), Stri
                     ..
                 },
             ) => Ok(()),
+            // A texel view: the same bytes as 16-byte texels (gpu/texels.rs).
+            (
+                ProvidedKind::StorageBuffer,
+                BindingKind::SampledTexture {
+                    sample: SampleKind::Uint,
+                    dim: TextureDim::D2,
+                }
+                | BindingKind::StorageTexture {
+                    access: Access::Read,
+                    format: TextureFormat::Rgba32Uint,
+                    dim: TextureDim::D2,
+                },
+            ) => Ok(()),
             (ProvidedKind::StorageBuffer, BindingKind::Storage { .. }) => Err(format!(
                 "'{name}' is provided by the framework and read-only; declare the binding var<storage, read>"
             )),
@@ -272,7 +285,7 @@ fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), Stri
                 "'{name}' is a uniform block provided by the framework; declare the binding var<uniform>, not {kind}"
             )),
             (ProvidedKind::StorageBuffer, _) => Err(format!(
-                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read>, not {kind}"
+                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read> or, for its bytes as 16-byte texels, texture_2d<u32>; not {kind}"
             )),
         },
         (ResourceKind::Buffer { .. }, BindingKind::StorageTexture { .. })

@@ -73,6 +73,16 @@ pub const PROVIDED_OVERRIDES: &[ProvidedOverride] = &[
         what: "number of emissive triangles (0: no shadow rays)",
     },
     ProvidedOverride {
+        name: "scene_triangle_count",
+        ty: ParamType::U32,
+        what: "number of triangles (texel views have no arrayLength)",
+    },
+    ProvidedOverride {
+        name: "scene_node_count",
+        ty: ParamType::U32,
+        what: "number of BVH nodes (texel views have no arrayLength)",
+    },
+    ProvidedOverride {
         name: "scene_has_specular",
         ty: ParamType::Bool,
         what: "whether any material has a specular lobe (Ks > 0)",

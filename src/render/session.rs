@@ -241,6 +241,10 @@ fn provided_data(
         .insert("frame".into(), frame_bytes(size, seed, index, accumulated));
     data.overrides
         .insert("scene_light_count".into(), f64::from(gpu.light_count));
+    data.overrides
+        .insert("scene_triangle_count".into(), gpu.triangles.len() as f64);
+    data.overrides
+        .insert("scene_node_count".into(), gpu.nodes.len() as f64);
     data.overrides.insert(
         "scene_has_specular".into(),
         if gpu.has_specular { 1.0 } else { 0.0 },

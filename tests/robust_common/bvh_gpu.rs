@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
+use passgraph::gpu::texels::create_texel_view;
 use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::intersect::{PreparedRay, intersect_triangle};
 use passgraph::scene::{Ray, SceneGpu};
@@ -88,8 +89,14 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
             usage: wgpu::BufferUsages::STORAGE,
         })
     };
-    let triangles = storage("triangles", bytemuck::cast_slice(&scene.triangles));
-    let nodes = storage("bvh", bytemuck::cast_slice(&scene.nodes));
+    // The scene as texel views, as the executor binds it to passes.
+    let view = |label: &str, bytes: &[u8]| {
+        create_texel_view(device, &gpu.queue, label, bytes)
+            .expect("scene fits a texture")
+            .create_view(&Default::default())
+    };
+    let triangles = view("triangles", bytemuck::cast_slice(&scene.triangles));
+    let nodes = view("bvh", bytemuck::cast_slice(&scene.nodes));
     let query_buffer = storage("queries", bytemuck::cast_slice(queries));
     let size = (queries.len() * size_of::<Answer>()) as u64;
     let answers = device.create_buffer(&wgpu::BufferDescriptor {
@@ -113,7 +120,13 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
         layout: None,
         module: &module,
         entry_point: Some("main"),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &[
+                ("scene_triangle_count", scene.triangles.len() as f64),
+                ("scene_node_count", scene.nodes.len() as f64),
+            ],
+            ..Default::default()
+        },
         cache: None,
     });
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -122,11 +135,11 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
-                resource: triangles.as_entire_binding(),
+                resource: wgpu::BindingResource::TextureView(&triangles),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
-                resource: nodes.as_entire_binding(),
+                resource: wgpu::BindingResource::TextureView(&nodes),
             },
             wgpu::BindGroupEntry {
                 binding: 2,

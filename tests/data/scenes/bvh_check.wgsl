@@ -21,8 +21,8 @@ struct Answer {
     pad2: u32,
 }
 
-@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(1) var<storage, read> bvh: array<BvhNode>;
+@group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(2) var<storage, read> queries: array<Query>;
 @group(0) @binding(3) var<storage, read_write> answers: array<Answer>;
 
