@@ -1,5 +1,8 @@
 // Ray queries against the threaded BVH: closest_hit and any_hit. src/scene/intersect.rs is the
-// CPU twin of this file, operation for operation; tests hold both to a brute-force oracle.
+// CPU twin of this file's box and triangle tests, operation for operation; it visits the same
+// nodes and triangles, with each leaf's triangles tested right away rather than interleaved with
+// node visits (bvh_step), which cannot change an answer: ties resolve by triangle index. Tests
+// hold both to a brute-force oracle.
 //
 // Contract with the including shader:
 //   #include "lib/scene.wgsl"     // first: Triangle, BvhNode, the texel-view readers, and
@@ -239,6 +242,34 @@ fn bvh_miss_link(node: BvhNode, i: u32) -> u32 {
     return max(node.a, i + 1u);
 }
 
+// Where a traversal stands: the next node to visit, and the leaf triangles [next, end) still
+// to test.
+struct BvhWalk {
+    node: u32,
+    next: u32,
+    end: u32,
+}
+
+// Visits one node once the current leaf's triangles are all tested: a leaf whose box the ray
+// meets queues its triangles. Interleaving single node visits and single triangle tests keeps
+// SIMD lanes busy: a GPU (or lavapipe) runs each iteration at the pace of its slowest lane, and
+// a nested loop over a leaf's triangles would make every lane wait for the largest leaf.
+fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32) -> BvhWalk {
+    if (walk.next < walk.end || walk.node >= scene_node_count) {
+        return walk;
+    }
+    let i = walk.node;
+    let node = scene_node(bvh, i);
+    if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax)) {
+        return BvhWalk(bvh_miss_link(node, i), walk.next, walk.end);
+    }
+    if (node.count > 0u) {
+        let first = min(node.a, scene_triangle_count);
+        return BvhWalk(i + 1u, first, first + min(node.count, scene_triangle_count - first));
+    }
+    return BvhWalk(i + 1u, walk.next, walk.end);
+}
+
 // The nearest hit with t in (tmin, tmax); ties go to the smaller triangle index, so the
 // answer does not depend on the order triangles are visited in.
 // Rays this invocation traced: passes that count rays add it to their `ray_count` buffer.
@@ -248,28 +279,19 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
     var best = Hit(tmax, 0.0, 0.0, BVH_NO_HIT);
-    let node_count = scene_node_count;
-    let triangle_count = scene_triangle_count;
-    var i = 0u;
-    // Every step increases i, so this runs at most node_count times.
-    while (i < node_count) {
-        let node = scene_node(bvh, i);
-        if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, best.t)) {
-            i = bvh_miss_link(node, i);
-            continue;
-        }
-        if (node.count > 0u) {
-            let first = min(node.a, triangle_count);
-            let end = first + min(node.count, triangle_count - first);
-            for (var k = first; k < end; k = k + 1u) {
-                let p = scene_triangle_vertices(triangles, k);
-                let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
-                if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle))) {
-                    best = Hit(h.t, h.u, h.v, k);
-                }
+    var walk = BvhWalk(0u, 0u, 0u);
+    // Each step tests at most one triangle and visits at most one node: see bvh_step.
+    while (walk.node < scene_node_count || walk.next < walk.end) {
+        if (walk.next < walk.end) {
+            let k = walk.next;
+            let p = scene_triangle_vertices(triangles, k);
+            let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
+            if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle))) {
+                best = Hit(h.t, h.u, h.v, k);
             }
+            walk.next = k + 1u;
         }
-        i = i + 1u;
+        walk = bvh_step(ray, walk, tmin, best.t);
     }
     return best;
 }
@@ -278,26 +300,16 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
 fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
-    let node_count = scene_node_count;
-    let triangle_count = scene_triangle_count;
-    var i = 0u;
-    while (i < node_count) {
-        let node = scene_node(bvh, i);
-        if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax)) {
-            i = bvh_miss_link(node, i);
-            continue;
-        }
-        if (node.count > 0u) {
-            let first = min(node.a, triangle_count);
-            let end = first + min(node.count, triangle_count - first);
-            for (var k = first; k < end; k = k + 1u) {
-                let p = scene_triangle_vertices(triangles, k);
-                if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit) {
-                    return true;
-                }
+    var walk = BvhWalk(0u, 0u, 0u);
+    while (walk.node < scene_node_count || walk.next < walk.end) {
+        if (walk.next < walk.end) {
+            let p = scene_triangle_vertices(triangles, walk.next);
+            if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit) {
+                return true;
             }
+            walk.next = walk.next + 1u;
         }
-        i = i + 1u;
+        walk = bvh_step(ray, walk, tmin, tmax);
     }
     return false;
 }
