@@ -76,7 +76,7 @@ struct RenderArgs {
     /// Random seed: the same seed gives the same image on the same adapter.
     #[arg(long, default_value_t = 0)]
     seed: u32,
-    /// Channel(s) to write: sum, l0, direct, indirect, ambient, or a '+'-joined list.
+    /// Channel(s) to write: sum, l0, direct, indirect, ambient, a '+'-joined list, or an output texture of the graph (e.g. denoised).
     #[arg(long, default_value = "sum")]
     channel: ChannelSelection,
     /// Override a graph param: INSTANCE.PARAM=VALUE (repeatable).

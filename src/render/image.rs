@@ -1,7 +1,7 @@
 //! Linear RGB images: combining result planes, and writing PNG (sRGB, clamped) or EXR (linear
 //! float32) whole or not at all.
 
-use super::channels::ChannelSelection;
+use super::channels::Channel;
 use crate::atomic_write::write_atomic;
 use std::path::Path;
 
@@ -20,13 +20,13 @@ impl RgbImage {
         result: &[[f32; 4]],
         width: u32,
         height: u32,
-        channels: &ChannelSelection,
+        channels: &[Channel],
     ) -> RgbImage {
         let plane = (width * height) as usize;
         let pixels = (0..plane)
             .map(|i| {
                 let mut rgb = [0.0f32; 3];
-                for c in &channels.0 {
+                for c in channels {
                     let v = result[c.layer() * plane + i];
                     for k in 0..3 {
                         rgb[k] += v[k];

@@ -1,7 +1,8 @@
-//! Progressive rendering: sessions over a compiled graph and a scene, image output, and the
-//! accumulate pass's arithmetic on the CPU.
+//! Progressive rendering: sessions over a compiled graph and a scene, image output (from the
+//! accumulation or an output texture), and the accumulate pass's arithmetic on the CPU.
 
 pub mod accumulate;
 pub mod channels;
 pub mod image;
+pub mod output_texture;
 pub mod session;

@@ -2,6 +2,7 @@
 
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
+use super::output_texture::{output_texture_format, texture_image};
 use crate::gpu::{Executor, GpuContext, GpuError, ProvidedData};
 use crate::graph::compile::compile;
 use crate::graph::error::GraphError;
@@ -153,7 +154,15 @@ impl Session {
 
     pub fn image(&self, channels: &ChannelSelection) -> Result<RgbImage, RenderError> {
         let [w, h] = self.size;
-        Ok(RgbImage::from_result(&self.result()?, w, h, channels))
+        match channels {
+            ChannelSelection::Planes(planes) => {
+                Ok(RgbImage::from_result(&self.result()?, w, h, planes))
+            }
+            ChannelSelection::Texture(name) => {
+                let format = output_texture_format(&self.plan, name).map_err(RenderError::Other)?;
+                Ok(texture_image(&self.read_resource(name)?, format, w, h))
+            }
+        }
     }
 
     /// Any graph resource's content after every submitted frame, blocking (see
