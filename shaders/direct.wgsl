@@ -9,6 +9,7 @@
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
 #include "lib/light_sample.wgsl"
+#include "lib/light_select.wgsl"
 #include "lib/nee.wgsl"
 
 @group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
@@ -20,6 +21,7 @@
 @group(0) @binding(6) var l0: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(7) var out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+@group(0) @binding(9) var light_power: texture_storage_2d<rgba32uint, read>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

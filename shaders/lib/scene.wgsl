@@ -111,3 +111,8 @@ fn scene_node(view: texture_storage_2d<rgba32uint, read>, i: u32) -> BvhNode {
     let b = scene_texel(view, 2u * i + 1u);
     return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
 }
+
+// Entry i of a scene.light_power view (four f32 per texel).
+fn scene_light_power(view: texture_storage_2d<rgba32uint, read>, i: u32) -> f32 {
+    return bitcast<f32>(scene_texel(view, i >> 2u)[i & 3u]);
+}

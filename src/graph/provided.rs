@@ -36,6 +36,11 @@ pub const PROVIDED: &[Provided] = &[
         what: "indices of the emissive triangles",
     },
     Provided {
+        name: "scene.light_power",
+        kind: ProvidedKind::StorageBuffer,
+        what: "f32 power of each emissive triangle (area x luminance of Ke), in scene.lights order",
+    },
+    Provided {
         name: "scene.bvh",
         kind: ProvidedKind::StorageBuffer,
         what: "threaded BVH nodes",

@@ -241,6 +241,10 @@ fn provided_data(
         bytemuck::cast_slice(&gpu.lights).to_vec(),
     );
     data.buffers.insert(
+        "scene.light_power".into(),
+        bytemuck::cast_slice(&gpu.light_power).to_vec(),
+    );
+    data.buffers.insert(
         "scene.bvh".into(),
         bytemuck::cast_slice(&gpu.nodes).to_vec(),
     );

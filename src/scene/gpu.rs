@@ -5,7 +5,7 @@
 use super::bvh::{Bvh, BvhStats};
 use super::file::Scene;
 use super::intersect::{self, Hit, Ray};
-use super::lights::emissive_triangles;
+use super::lights::{emissive_triangles, light_power};
 use super::mesh::Mesh;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -153,6 +153,9 @@ pub struct SceneGpu {
     /// Indices into `triangles` of the emissive triangles with nonzero area, ascending. Empty
     /// when the scene has no emitters.
     pub lights: Vec<u32>,
+    /// Each light's area times the luminance of its `Ke`, in `lights` order: the
+    /// `scene.light_power` table that light selection samples from.
+    pub light_power: Vec<f32>,
     /// Depth-first threaded BVH; node 0 is the root. Empty only if no triangle has area.
     pub nodes: Vec<BvhNode>,
     /// `lights.len()`: the `scene_light_count` override.
@@ -177,6 +180,7 @@ impl SceneGpu {
             .collect();
         let materials = mesh.materials.clone();
         let lights = emissive_triangles(&triangles, &materials);
+        let light_power = light_power(&lights, &triangles, &materials);
         let has_specular = triangles.iter().any(|t| {
             materials
                 .get(t.material as usize)
@@ -187,6 +191,7 @@ impl SceneGpu {
             triangles,
             materials,
             lights,
+            light_power,
             nodes: bvh.nodes,
             has_specular,
             bvh: bvh.stats,

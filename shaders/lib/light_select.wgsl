@@ -1,0 +1,58 @@
+// Light selection (SEED.md III-A): one emissive triangle per shading point instead of all of
+// them, chosen with probability proportional to its power (scene.light_power: area x luminance
+// of Ke) over its squared distance. Next-event estimation divides by that probability, so the
+// estimate stays unbiased. The including shader declares `triangles`, `lights` and
+// `light_power` (texel views) and includes scene, rng and surface.
+
+// No light can contribute: every weight is 0.
+const LIGHT_NONE: u32 = 0xffffffffu;
+
+struct LightChoice {
+    index: u32,
+    pmf: f32,
+}
+
+// The unnormalised probability of light i from `origin` (the offset shading point) with
+// normal n. Exactly 0 only where the light cannot contribute at all: the point lies on or
+// behind the light's plane (emission is one-sided), or the whole triangle lies on or below the
+// point's tangent plane. The squared distance to the centroid is clamped below by the area so
+// that a point next to a light does not give it an unbounded weight.
+fn light_weight(origin: vec3<f32>, n: vec3<f32>, i: u32) -> f32 {
+    let light = scene_triangle(triangles, scene_light(lights, i));
+    let normal = cross(light.p1 - light.p0, light.p2 - light.p0);
+    if dot(normal, origin - light.p0) <= 0.0 {
+        return 0.0;
+    }
+    let above = max(dot(n, light.p0 - origin), max(dot(n, light.p1 - origin), dot(n, light.p2 - origin)));
+    if above <= 0.0 {
+        return 0.0;
+    }
+    let to_centroid = (light.p0 + light.p1 + light.p2) / 3.0 - origin;
+    let area = 0.5 * length(normal);
+    return scene_light_power(light_power, i) / max(dot(to_centroid, to_centroid), area);
+}
+
+// Draws one light with probability weight / total, using one random number whatever happens.
+// The running sum that picks the light adds the same weights as the total, so the chosen light
+// is the first whose running sum exceeds u * total; if rounding leaves u * total at or above the
+// final sum, the last light of positive weight is chosen. A light of weight 0 is never chosen.
+fn select_light(origin: vec3<f32>, n: vec3<f32>, rng: ptr<function, u32>) -> LightChoice {
+    let u = rng_next(rng);
+    var total = 0.0;
+    for (var i = 0u; i < scene_light_count; i++) {
+        total += light_weight(origin, n, i);
+    }
+    let goal = u * total;
+    var choice = LightChoice(LIGHT_NONE, 0.0);
+    var found = false;
+    var sum = 0.0;
+    for (var i = 0u; i < scene_light_count; i++) {
+        let w = light_weight(origin, n, i);
+        sum += w;
+        if w > 0.0 && !found {
+            choice = LightChoice(i, w / total);
+            found = goal < sum;
+        }
+    }
+    return choice;
+}
