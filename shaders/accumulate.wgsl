@@ -7,10 +7,10 @@
 #include "lib/scene.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var l0: texture_2d<f32>;
-@group(0) @binding(2) var direct: texture_2d<f32>;
-@group(0) @binding(3) var indirect: texture_2d<f32>;
-@group(0) @binding(4) var ambient: texture_2d<f32>;
+@group(0) @binding(1) var l0: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var direct: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var indirect: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(4) var ambient: texture_storage_2d<rgba32float, read>;
 // Five planes of width * height: L0, direct, indirect, ambient, sum.
 @group(0) @binding(5) var<storage, read_write> result: array<vec4<f32>>;
 @group(0) @binding(6) var<storage, read_write> dropped: atomic<u32>;
@@ -57,10 +57,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let pixel = vec2<i32>(id.xy);
     let samples = array<vec3<f32>, 4>(
-        textureLoad(l0, pixel, 0).xyz,
-        textureLoad(direct, pixel, 0).xyz,
-        textureLoad(indirect, pixel, 0).xyz,
-        textureLoad(ambient, pixel, 0).xyz,
+        textureLoad(l0, pixel).xyz,
+        textureLoad(direct, pixel).xyz,
+        textureLoad(indirect, pixel).xyz,
+        textureLoad(ambient, pixel).xyz,
     );
     let sum = samples[0] + samples[1] + samples[2] + samples[3];
     let plane = frame.width * frame.height;

@@ -20,9 +20,9 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var src: texture_2d<f32>;
-@group(0) @binding(2) var normal: texture_2d<f32>;
-@group(0) @binding(3) var position: texture_2d<f32>;
+@group(0) @binding(1) var src: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var normal: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var position: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(4) var dst: texture_storage_2d<rgba32float, write>;
 
 const KERNEL = array<f32, 5>(0.0625, 0.25, 0.375, 0.25, 0.0625);
@@ -34,9 +34,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(p >= size) {
         return;
     }
-    let centre = textureLoad(src, p, 0);
-    let n_p = textureLoad(normal, p, 0).xyz;
-    let x_p = textureLoad(position, p, 0).xyz;
+    let centre = textureLoad(src, p);
+    let n_p = textureLoad(normal, p).xyz;
+    let x_p = textureLoad(position, p).xyz;
     let samples = max(centre.w, 1.0);
     let sigma_color = params.sigma_color / f32(params.step);
     let inv_color = samples / (sigma_color * sigma_color);
@@ -54,10 +54,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if any(q < vec2<i32>(0)) || any(q >= size) {
                 continue;
             }
-            let c_q = textureLoad(src, q, 0).xyz;
+            let c_q = textureLoad(src, q).xyz;
             let dc = c_q - centre.xyz;
-            let dn = textureLoad(normal, q, 0).xyz - n_p;
-            let dx = textureLoad(position, q, 0).xyz - x_p;
+            let dn = textureLoad(normal, q).xyz - n_p;
+            let dx = textureLoad(position, q).xyz - x_p;
             let sine = dot(plane_n, dx) / max(length(dx), 1.0e-20);
             let distance = dot(dc, dc) * inv_color + dot(dn, dn) * inv_normal
                 + sine * sine * inv_plane;

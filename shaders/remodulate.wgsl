@@ -13,8 +13,8 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> result: array<vec4<f32>>;
-@group(0) @binding(2) var filtered: texture_2d<f32>;
-@group(0) @binding(3) var albedo: texture_2d<f32>;
+@group(0) @binding(2) var filtered: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var albedo: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(4) var out: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(8, 8)
@@ -25,8 +25,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let pixel = vec2<i32>(id.xy);
     let raw = result[params.plane * size.x * size.y + id.y * size.x + id.x];
-    let a = demodulation_albedo(textureLoad(albedo, pixel, 0).xyz);
-    let denoised = textureLoad(filtered, pixel, 0).xyz * a;
+    let a = demodulation_albedo(textureLoad(albedo, pixel).xyz);
+    let denoised = textureLoad(filtered, pixel).xyz * a;
     var weight = 1.0;
     if params.fade_frames > 0u {
         weight = clamp(1.0 - raw.w / f32(params.fade_frames), 0.0, 1.0);
