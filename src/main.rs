@@ -40,6 +40,8 @@ enum Command {
     /// Speed against error: render graph variants, measure the error against a reference at
     /// log-spaced checkpoints, write CSVs, a log-log chart and a markdown report.
     Bench(BenchArgs),
+    /// Open a window showing the image as it accumulates: fly camera, channel keys, hot reload.
+    View(ViewArgs),
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -91,6 +93,30 @@ struct RenderArgs {
     /// A linear EXR of the same size to report the error against (RMSE, relMSE, bias).
     #[arg(long)]
     reference: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct ViewArgs {
+    #[arg(long, default_value = DEFAULT_GRAPH)]
+    graph: PathBuf,
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    scene: PathBuf,
+    /// Image size, WxH; the window starts at twice this.
+    #[arg(long, default_value = "256x256", value_parser = parse_size)]
+    size: [u32; 2],
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Override a graph param: INSTANCE.PARAM=VALUE (repeatable).
+    #[arg(long = "set")]
+    set: Vec<String>,
+    #[arg(long)]
+    adapter: Option<String>,
+    /// Scripted input, one event per line: wait N, key K, hold K N, drag DX DY, scroll N, screenshot PATH.png, quit.
+    #[arg(long)]
+    script: Option<PathBuf>,
+    /// Quit after this many frames.
+    #[arg(long)]
+    frames: Option<u32>,
 }
 
 #[derive(clap::Args)]
@@ -291,6 +317,20 @@ fn run(cli: Cli) -> Result<(), String> {
     match cli.command.unwrap_or(Command::Render(cli.render)) {
         Command::Render(args) => render(args)?,
         Command::Bench(args) => bench(args)?,
+        Command::View(a) => passgraph::view::run(passgraph::view::ViewOptions {
+            settings: RenderSettings {
+                graph: a.graph,
+                scene: a.scene,
+                size: a.size,
+                seed: a.seed,
+                set: a.set,
+                adapter: a.adapter,
+                max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
+            },
+            window_scale: 2,
+            script: a.script,
+            frames: a.frames,
+        })?,
         Command::Check(g) => {
             let p = plan(&g)?;
             println!(

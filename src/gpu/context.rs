@@ -13,6 +13,8 @@ const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     .union(wgpu::Features::BGRA8UNORM_STORAGE);
 
+/// Cheap to clone: wgpu's handles are shared, so a viewer can rebuild sessions on one device.
+#[derive(Clone)]
 pub struct GpuContext {
     adapter: wgpu::Adapter,
     device: wgpu::Device,
@@ -27,16 +29,27 @@ impl GpuContext {
     pub fn new(adapter: Option<&str>) -> Result<GpuContext, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        GpuContext::with_instance(&instance, None, adapter)
+    }
+
+    /// As [`GpuContext::new`], on a caller's instance; with `surface`, only an adapter that can
+    /// present to it is taken (a window's instance must be the one its surface came from).
+    pub fn with_instance(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+        adapter: Option<&str>,
+    ) -> Result<GpuContext, GpuError> {
         let filter = adapter
             .map(str::to_string)
             .or_else(|| std::env::var(ADAPTER_ENV).ok())
             .filter(|f| !f.trim().is_empty());
         let adapter = match filter {
-            Some(filter) => adapter_by_name(&instance, &filter)?,
+            Some(filter) => adapter_by_name(instance, &filter, surface)?,
             None => {
                 let options = wgpu::RequestAdapterOptions {
                     power_preference: wgpu::PowerPreference::from_env()
                         .unwrap_or(wgpu::PowerPreference::HighPerformance),
+                    compatible_surface: surface,
                     ..Default::default()
                 };
                 pollster::block_on(instance.request_adapter(&options))
@@ -111,8 +124,15 @@ impl GpuContext {
     }
 }
 
-fn adapter_by_name(instance: &wgpu::Instance, filter: &str) -> Result<wgpu::Adapter, GpuError> {
-    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+fn adapter_by_name(
+    instance: &wgpu::Instance,
+    filter: &str,
+    surface: Option<&wgpu::Surface<'_>>,
+) -> Result<wgpu::Adapter, GpuError> {
+    let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    if let Some(surface) = surface {
+        adapters.retain(|a| a.is_surface_supported(surface));
+    }
     if adapters.is_empty() {
         return Err(GpuError::NoAdapter);
     }

@@ -8,7 +8,7 @@ mod error_scope;
 pub mod executor;
 mod pass;
 pub mod provided_data;
-mod readback;
+pub mod readback;
 mod resources;
 pub mod texels;
 mod timing;

@@ -6,7 +6,7 @@ use super::output_texture::{output_texture_format, texture_image};
 use crate::gpu::{Executor, GpuContext, GpuError, ProvidedData};
 use crate::graph::compile::compile;
 use crate::graph::error::GraphError;
-use crate::graph::load::load_graph;
+use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::Plan;
 use crate::graph::set_param::set_param;
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
@@ -63,18 +63,36 @@ pub struct Session {
     /// Frames in the current accumulation (0 after a reset).
     accumulated: u32,
     max_frames: u32,
+    source_files: Vec<PathBuf>,
 }
 
 impl Session {
     pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
+        Session::build(settings, || GpuContext::new(settings.adapter.as_deref()))
+    }
+
+    /// A session on an existing device (`settings.adapter` is not consulted): a viewer renders
+    /// on the device its window presents with, and rebuilds sessions on it.
+    pub fn with_context(
+        ctx: GpuContext,
+        settings: &RenderSettings,
+    ) -> Result<Session, RenderError> {
+        Session::build(settings, || Ok(ctx))
+    }
+
+    fn build(
+        settings: &RenderSettings,
+        context: impl FnOnce() -> Result<GpuContext, GpuError>,
+    ) -> Result<Session, RenderError> {
         let mut graph = load_graph(&settings.graph)?;
+        let source_files = graph_files(&graph);
         for s in &settings.set {
             set_param(&mut graph, s)?;
         }
         let plan = compile(&graph, settings.size)?;
         let scene = load_scene(&settings.scene)?;
         let gpu_scene = scene.to_gpu();
-        let ctx = GpuContext::new(settings.adapter.as_deref())?;
+        let ctx = context()?;
         let provided = provided_data(&scene, &gpu_scene, settings.size, settings.seed, 0, 0);
         let executor = Executor::new(&ctx, &plan, &provided)?;
         Ok(Session {
@@ -88,7 +106,14 @@ impl Session {
             index: 0,
             accumulated: 0,
             max_frames: settings.max_frames,
+            source_files,
         })
+    }
+
+    /// Every file the graph was built from: the graph, its pass files, their shaders and the
+    /// shaders' includes (what a hot reload watches).
+    pub fn source_files(&self) -> &[PathBuf] {
+        &self.source_files
     }
 
     pub fn plan(&self) -> &Plan {
@@ -203,6 +228,17 @@ impl Session {
     pub fn scene_description(&self) -> &Scene {
         &self.scene
     }
+}
+
+fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
+    let mut files = vec![graph.file.clone()];
+    for pass in graph.passes.values() {
+        files.push(pass.file.clone());
+        files.extend(pass.shader.files().iter().cloned());
+    }
+    files.sort();
+    files.dedup();
+    files
 }
 
 fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {

@@ -1,0 +1,105 @@
+//! Hot reload without a window: a Reloader over a scratch copy of graphs/, passes/ and shaders/
+//! sees edits when polled, keeps the last good session on a broken edit, and builds a new one
+//! when the files are good again. Runs on lavapipe.
+
+use passgraph::gpu::GpuContext;
+use passgraph::render::channels::{Channel, ChannelSelection};
+use passgraph::render::session::{RenderSettings, Session};
+use passgraph::view::reload::{ReloadOutcome, Reloader};
+use std::path::Path;
+
+const SIZE: [u32; 2] = [32, 32];
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
+/// Renders a few frames and returns the mean of a channel.
+fn render_mean(session: &mut Session, channel: Channel) -> [f64; 3] {
+    for _ in 0..4 {
+        session.render_frame().unwrap();
+    }
+    session
+        .image(&ChannelSelection::Planes(vec![channel]))
+        .unwrap()
+        .mean()
+}
+
+fn edit(path: &Path, from: &str, to: &str) {
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains(from), "{} has no '{from}'", path.display());
+    std::fs::write(path, text.replacen(from, to, 1)).unwrap();
+}
+
+#[test]
+fn reloader_keeps_the_last_good_graph_and_picks_up_fixes_and_edits() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["graphs", "passes", "shaders"] {
+        copy_dir(&root.join(sub), &dir.path().join(sub));
+    }
+    let settings = RenderSettings {
+        graph: dir.path().join("graphs/pathtracer.ron"),
+        scene: root.join("scenes/cornell/scene.ron"),
+        size: SIZE,
+        seed: 0,
+        set: Vec::new(),
+        adapter: None,
+        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
+    };
+    let ctx = GpuContext::new(None).expect("lavapipe: apt-get install -y mesa-vulkan-drivers");
+    let (mut reloader, mut session) = Reloader::new(ctx, settings).unwrap();
+    let camera = session.scene_description().camera;
+    let rng = dir.path().join("shaders/lib/rng.wgsl");
+    assert!(
+        reloader.watched_files().any(|f| f == rng),
+        "includes are watched"
+    );
+    assert!(matches!(reloader.poll(camera), ReloadOutcome::Unchanged));
+    assert!(render_mean(&mut session, Channel::Sum)[0] > 0.01);
+
+    // Break an include: the error names it, and the old session still renders.
+    let good = std::fs::read_to_string(&rng).unwrap();
+    std::fs::write(&rng, format!("{good}\nfn broken( {{\n")).unwrap();
+    match reloader.poll(camera) {
+        ReloadOutcome::Failed { message, changed } => {
+            assert!(message.contains("rng.wgsl"), "{message}");
+            assert_eq!(changed, vec![rng.clone()]);
+        }
+        _ => panic!("a broken include must fail to reload"),
+    }
+    // Reported once per edit, not once per poll.
+    assert!(matches!(reloader.poll(camera), ReloadOutcome::Unchanged));
+    session.reset();
+    assert!(render_mean(&mut session, Channel::Sum)[0] > 0.01);
+
+    // Fixed: a new session that renders.
+    std::fs::write(&rng, &good).unwrap();
+    session = match reloader.poll(camera) {
+        ReloadOutcome::Reloaded { session, changed } => {
+            assert_eq!(changed, vec![rng.clone()]);
+            *session
+        }
+        ReloadOutcome::Failed { message, .. } => panic!("the fix must reload: {message}"),
+        ReloadOutcome::Unchanged => panic!("the fix must be seen"),
+    };
+    assert_eq!(render_mean(&mut session, Channel::Ambient), [0.0; 3]);
+
+    // A pass RON edit takes effect: ambient light turns on.
+    let ambient = dir.path().join("passes/ambient.ron");
+    edit(&ambient, "Vec3(0.0, 0.0, 0.0)", "Vec3(0.5, 0.5, 0.5)");
+    session = match reloader.poll(camera) {
+        ReloadOutcome::Reloaded { session, .. } => *session,
+        _ => panic!("a pass edit must reload"),
+    };
+    assert!(render_mean(&mut session, Channel::Ambient)[0] > 0.01);
+}
