@@ -123,9 +123,10 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
-    /// A graph variant (repeatable).
-    #[arg(long = "graph", default_value = DEFAULT_GRAPH)]
-    graphs: Vec<PathBuf>,
+    /// A graph variant (repeatable): GRAPH or GRAPH@CHANNEL to compare CHANNEL instead of
+    /// --channel for this variant (e.g. graphs/pathtracer-denoise.ron@denoised).
+    #[arg(long = "graph", default_value = DEFAULT_GRAPH, value_parser = parse_variant)]
+    graphs: Vec<Variant>,
     /// Linear EXR reference of the scene at --size.
     #[arg(long)]
     reference: PathBuf,
@@ -155,6 +156,31 @@ struct BenchArgs {
     adapter: Option<String>,
 }
 
+/// A bench variant: a graph, and optionally the channel to compare for it.
+#[derive(Clone, Debug)]
+struct Variant {
+    graph: PathBuf,
+    channel: Option<ChannelSelection>,
+    channel_name: Option<String>,
+}
+
+/// GRAPH or GRAPH@CHANNEL; a path that exists as given is never split.
+fn parse_variant(text: &str) -> Result<Variant, String> {
+    let whole = Variant {
+        graph: PathBuf::from(text),
+        channel: None,
+        channel_name: None,
+    };
+    match text.rsplit_once('@') {
+        Some((graph, name)) if !name.is_empty() && !whole.graph.exists() => Ok(Variant {
+            graph: PathBuf::from(graph),
+            channel: Some(name.parse::<ChannelSelection>()?),
+            channel_name: Some(name.to_string()),
+        }),
+        _ => Ok(whole),
+    }
+}
+
 fn bench(args: BenchArgs) -> Result<(), String> {
     use passgraph::bench::{plot, report, run, series::Series};
     let reference = RgbImage::read_exr(&args.reference)?;
@@ -175,10 +201,15 @@ fn bench(args: BenchArgs) -> Result<(), String> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
     let mut runs = Vec::new();
-    for graph in &args.graphs {
-        let label = graph
+    for variant in &args.graphs {
+        let graph = &variant.graph;
+        let mut label = graph
             .file_stem()
             .map_or("graph".to_string(), |s| s.to_string_lossy().into_owned());
+        if let Some(name) = &variant.channel_name {
+            label = format!("{label}@{name}");
+        }
+        let channel = variant.channel.as_ref().unwrap_or(&args.channel);
         let settings = RenderSettings {
             graph: graph.clone(),
             scene: args.scene.clone(),
@@ -189,8 +220,8 @@ fn bench(args: BenchArgs) -> Result<(), String> {
             max_frames: u32::MAX,
         };
         eprintln!("bench {label} ...");
-        let r = run::run(&label, &settings, &args.channel, &reference, budget)
-            .map_err(|e| e.to_string())?;
+        let r =
+            run::run(&label, &settings, channel, &reference, budget).map_err(|e| e.to_string())?;
         report::write_text(&args.out.join(format!("{label}.csv")), &report::run_csv(&r))?;
         runs.push(r);
     }

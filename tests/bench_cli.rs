@@ -22,9 +22,14 @@ fn bench_writes_csv_chart_and_report_for_each_variant() {
     )
     .unwrap();
     let out = dir.path().join("bench");
+    let denoised = root.join("graphs/pathtracer-denoise.ron@denoised");
     let status = Command::new(env!("CARGO_BIN_EXE_passgraph"))
         .args(["bench", "--size", "32x32", "--frames", "4", "--reference"])
         .arg(&reference_path)
+        .arg("--graph")
+        .arg(root.join("graphs/pathtracer.ron"))
+        .arg("--graph")
+        .arg(&denoised)
         .arg("--mitsuba")
         .arg(&mitsuba)
         .arg("--out")
@@ -49,6 +54,16 @@ fn bench_writes_csv_chart_and_report_for_each_variant() {
     assert!(relmse(rows[3]) < relmse(rows[1]));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("| pathtracer | 4 |"), "{report}");
+    // GRAPH@CHANNEL: the denoiser's output texture is compared, under its own label; at 4
+    // frames it is closer to the reference than the raw image (tests/denoise.rs).
+    assert!(
+        report.contains("| pathtracer-denoise@denoised | 4 |"),
+        "{report}"
+    );
+    let denoised_csv =
+        std::fs::read_to_string(out.join("pathtracer-denoise@denoised.csv")).unwrap();
+    let last = |csv: &str| relmse(csv.lines().last().unwrap());
+    assert!(last(&denoised_csv) < last(&csv), "{denoised_csv}\n{csv}");
     assert!(report.contains("Mitsuba 3"), "{report}");
     let chart = image::open(out.join("error-vs-time.png")).unwrap();
     assert_eq!((chart.width(), chart.height()), (900, 600));
