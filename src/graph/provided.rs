@@ -51,6 +51,11 @@ pub const PROVIDED: &[Provided] = &[
         what: "the pinhole camera",
     },
     Provided {
+        name: "camera_previous",
+        kind: ProvidedKind::Uniform,
+        what: "the camera of the previous frame; all zeros after a reset (no history to reuse)",
+    },
+    Provided {
         name: "frame",
         kind: ProvidedKind::Uniform,
         what: "frame index, accumulated frame count, output size, user seed",

@@ -9,7 +9,9 @@ use crate::graph::error::GraphError;
 use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::Plan;
 use crate::graph::set_param::set_param;
+use crate::scene::gpu::GpuCamera;
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
+use bytemuck::Zeroable;
 use std::path::PathBuf;
 use thiserror::Error;
 
@@ -49,6 +51,8 @@ impl RenderSettings {
 /// declares them.
 pub const RESULT: &str = "result";
 pub const DROPPED: &str = "dropped";
+/// The provided uniform holding the previous frame's camera, all zeros when there is none.
+pub const CAMERA_PREVIOUS: &str = "camera_previous";
 
 pub struct Session {
     ctx: GpuContext,
@@ -64,6 +68,9 @@ pub struct Session {
     accumulated: u32,
     max_frames: u32,
     source_files: Vec<PathBuf>,
+    /// The camera the last frame was rendered with; `None` before the first frame and after a
+    /// reset, when there is no history a pass could reproject.
+    previous_camera: Option<GpuCamera>,
 }
 
 impl Session {
@@ -107,6 +114,7 @@ impl Session {
             accumulated: 0,
             max_frames: settings.max_frames,
             source_files,
+            previous_camera: None,
         })
     }
 
@@ -140,7 +148,11 @@ impl Session {
         }
         let frame = frame_bytes(self.size, self.seed, self.index, self.accumulated);
         self.executor.update_uniform("frame", &frame)?;
+        let previous = self.previous_camera.unwrap_or_else(GpuCamera::zeroed);
+        self.executor
+            .update_uniform(CAMERA_PREVIOUS, bytemuck::bytes_of(&previous))?;
         self.executor.run_frame(&self.ctx)?;
+        self.previous_camera = Some(self.gpu_camera());
         self.index += 1;
         self.accumulated += 1;
         Ok(true)
@@ -157,8 +169,10 @@ impl Session {
     }
 
     /// Starts the accumulation over (the next frame replaces the history).
+    /// Restarts the accumulation; no history survives (see `camera_previous`).
     pub fn reset(&mut self) {
         self.accumulated = 0;
+        self.previous_camera = None;
     }
 
     /// Moves the camera; the accumulation restarts, as any view change must.
@@ -167,8 +181,14 @@ impl Session {
         self.executor
             .update_uniform("camera", bytemuck::bytes_of(&gpu))?;
         self.scene.camera = camera;
-        self.reset();
+        // A restart, but the last frame's camera stays `camera_previous`: a graph that
+        // reprojects (graphs/pathtracer-reproject.ron) keeps what is still visible.
+        self.accumulated = 0;
         Ok(())
+    }
+
+    fn gpu_camera(&self) -> GpuCamera {
+        self.scene.camera.to_gpu(self.size[0], self.size[1])
     }
 
     /// The accumulation buffer: planes of width*height [mean r, g, b, sample count].
@@ -286,6 +306,10 @@ fn provided_data(
     );
     data.buffers
         .insert("camera".into(), bytemuck::bytes_of(&camera).to_vec());
+    data.buffers.insert(
+        CAMERA_PREVIOUS.into(),
+        bytemuck::bytes_of(&GpuCamera::zeroed()).to_vec(),
+    );
     data.buffers
         .insert("frame".into(), frame_bytes(size, seed, index, accumulated));
     data.overrides
