@@ -11,7 +11,9 @@
 //! quit
 //! ```
 //!
-//! Events between two `wait`s happen in the same frame, before it is rendered.
+//! Events between two `wait`s happen in the same frame, before it is rendered; a `screenshot`
+//! is taken after that frame is shown and ends the frame's events (the next event happens in
+//! the next frame), so the script reads in time order.
 
 use super::keys::Key;
 use glam::Vec2;
@@ -99,7 +101,12 @@ impl Script {
                     ScriptEvent::Hold(k, n) => self.holds.push((*k, *n)),
                     ScriptEvent::Drag(d) => out.drag += *d,
                     ScriptEvent::Scroll(s) => out.scroll += *s,
-                    ScriptEvent::Screenshot(p) => out.screenshots.push(p.clone()),
+                    ScriptEvent::Screenshot(p) => {
+                        // Taken once this frame is shown; later events belong to the next
+                        // frame, so `screenshot a.png` then `key 2` shots the old channel.
+                        out.screenshots.push(p.clone());
+                        break;
+                    }
                     ScriptEvent::Quit => {
                         out.quit = true;
                         break;
@@ -201,7 +208,8 @@ mod tests {
         assert_eq!(third.drag, Vec2::new(3.0, -4.0));
         let fourth = s.frame();
         assert_eq!(fourth.screenshots, vec![PathBuf::from("a b.png")]);
-        assert!(fourth.quit);
+        assert!(!fourth.quit);
+        assert!(s.frame().quit);
         assert!(s.finished());
     }
 
