@@ -32,8 +32,11 @@ const TITLE_PERIOD: Duration = Duration::from_millis(500);
 const IDLE_PERIOD: Duration = Duration::from_millis(100);
 
 pub fn run(options: ViewOptions) -> Result<(), String> {
-    // A bad script is reported before any window opens.
+    // A bad script is reported before any window opens...
     let script = options.script.as_deref().map(Script::load).transpose()?;
+    // So is a graph that does not compile (this needs no GPU and no display).
+    crate::compile_file(&options.settings.graph, options.settings.size)
+        .map_err(|e| e.to_string())?;
     let event_loop = EventLoop::new().map_err(|e| {
         format!("cannot open a window: {e} (on a machine without a display, run under Xvfb)")
     })?;
