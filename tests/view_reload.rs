@@ -94,6 +94,29 @@ fn reloader_keeps_the_last_good_graph_and_picks_up_fixes_and_edits() {
     };
     assert_eq!(render_mean(&mut session, Channel::Ambient), [0.0; 3]);
 
+    // A new, broken library included from a watched file: once named by the error it is
+    // watched too, so fixing it alone reloads.
+    let extra = dir.path().join("shaders/lib/extra.wgsl");
+    std::fs::write(&extra, "fn extra( {\n").unwrap();
+    std::fs::write(&rng, format!("{good}\n#include \"extra.wgsl\"\n")).unwrap();
+    match reloader.poll(camera) {
+        ReloadOutcome::Failed { message, .. } => {
+            assert!(message.contains("extra.wgsl"), "{message}")
+        }
+        _ => panic!("a broken new include must fail to reload"),
+    }
+    std::fs::write(&extra, "fn extra() {}\n").unwrap();
+    session = match reloader.poll(camera) {
+        ReloadOutcome::Reloaded { session, changed } => {
+            assert_eq!(changed, vec![extra.clone()]);
+            *session
+        }
+        ReloadOutcome::Failed { message, .. } => panic!("the fixed include must load: {message}"),
+        ReloadOutcome::Unchanged => panic!("the fixed include must be seen"),
+    };
+    assert!(reloader.watched_files().any(|f| f == extra));
+    assert!(render_mean(&mut session, Channel::Sum)[0] > 0.01);
+
     // A pass RON edit takes effect: ambient light turns on.
     let ambient = dir.path().join("passes/ambient.ron");
     edit(&ambient, "Vec3(0.0, 0.0, 0.0)", "Vec3(0.5, 0.5, 0.5)");

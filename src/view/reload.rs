@@ -7,7 +7,8 @@
 //! no watcher thread or dependency, and lets tests drive it deterministically.
 
 use crate::gpu::GpuContext;
-use crate::render::session::{RenderSettings, Session};
+use crate::graph::error::GraphError;
+use crate::render::session::{RenderError, RenderSettings, Session};
 use crate::scene::CameraDesc;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -113,14 +114,32 @@ impl Reloader {
             }
             Err(e) => {
                 // Remember the broken contents, so the error is reported once per edit, not
-                // once per frame; the files of the last good build stay watched.
+                // once per frame; the files of the last good build stay watched, and so does
+                // the file at fault (it may be new, e.g. a just-included library).
                 self.watched = now;
+                if let Some(file) = file_at_fault(&e) {
+                    let content = std::fs::read(&file).ok();
+                    self.watched.0.entry(file).or_insert(content);
+                }
                 ReloadOutcome::Failed {
                     message: e.to_string(),
                     changed,
                 }
             }
         }
+    }
+}
+
+/// The file an error points at, when it names one.
+fn file_at_fault(error: &RenderError) -> Option<PathBuf> {
+    match error {
+        RenderError::Graph(GraphError::Wgsl { file, .. } | GraphError::Include { file, .. }) => {
+            Some(file.clone())
+        }
+        RenderError::Graph(GraphError::Ron { path, .. } | GraphError::Io { path, .. }) => {
+            Some(path.clone())
+        }
+        _ => None,
     }
 }
 

@@ -312,6 +312,9 @@ impl Viewer {
         self.stale
             || self.session.accumulated() < self.session_max_frames()
             || !self.input.held.is_empty()
+            || !self.input.taps.is_empty()
+            || self.input.drag != Vec2::ZERO
+            || self.input.scroll != 0.0
     }
 
     fn session_max_frames(&self) -> u32 {
