@@ -6,6 +6,9 @@
 // sqrt(n) ulps (tests/robust_accumulate.rs; src/render/accumulate.rs mirrors this arithmetic).
 #include "lib/scene.wgsl"
 
+// A pass param (see passes/accumulate.ron).
+override restart_on_reset: bool = true;
+
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var l0: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var direct: texture_storage_2d<rgba32float, read>;
@@ -67,7 +70,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.y * frame.width + id.x;
     if !(finite(samples[0]) && finite(samples[1]) && finite(samples[2]) && finite(samples[3]) && finite(sum)) {
         atomicAdd(&dropped, 1u);
-        if frame.accumulated == 0u {
+        if frame.accumulated == 0u && restart_on_reset {
             // A restart still forgets the old history, with zero samples for this pixel.
             for (var c = 0u; c < 5u; c++) {
                 result[c * plane + i] = vec4<f32>(0.0);
@@ -79,8 +82,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var c = 0u; c < 5u; c++) {
         let x = select(samples[min(c, 3u)], sum, c == 4u);
         let m = result[c * plane + i];
-        // A restart ignores whatever the buffers held.
-        let restart = frame.accumulated == 0u;
+        // A restart ignores whatever the buffers held, unless a reprojection pass already
+        // decided, per pixel, what history survives (restart_on_reset false).
+        let restart = frame.accumulated == 0u && restart_on_reset;
         let n = select(m.w, 0.0, restart);
         let mean = select(m.xyz, vec3<f32>(0.0), restart);
         let error = select(compensation[c * plane + i].xyz, vec3<f32>(0.0), restart);

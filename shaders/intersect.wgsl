@@ -5,6 +5,9 @@
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
 
+// A pass param (see passes/intersect.ron).
+override reseed_on_restart: bool = true;
+
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> frame: Frame;
 @group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
@@ -18,9 +21,11 @@ fn shade(id: vec3<u32>) {
         return;
     }
     let pixel = vec2<i32>(id.xy);
-    // A restart re-seeds from the user seed, so the same seed gives the same image.
+    // A restart re-seeds from the user seed, so the same seed gives the same image; a graph
+    // that keeps history across restarts (reprojection) re-seeds only on the first frame, or
+    // new samples would repeat the ones already in that history.
     var seed = textureLoad(seeds, pixel).x;
-    if frame.accumulated == 0u {
+    if select(frame.index, frame.accumulated, reseed_on_restart) == 0u {
         seed = pcg_hash(id.y * frame.width + id.x ^ pcg_hash(frame.seed));
     }
     seed = pcg_hash(seed);

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use passgraph::bench::metrics::image_error;
+use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};
@@ -93,6 +94,13 @@ struct RenderArgs {
     /// A linear EXR of the same size to report the error against (RMSE, relMSE, bias).
     #[arg(long)]
     reference: Option<PathBuf>,
+    /// Render a scripted camera path (RON, see src/render/camera_path.rs) instead of --frames
+    /// at the scene's camera; segments with a reference report their error after every frame.
+    #[arg(long, conflicts_with = "frames")]
+    camera_path: Option<PathBuf>,
+    /// With --camera-path: write the per-frame errors as CSV.
+    #[arg(long, requires = "camera_path")]
+    error_csv: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -247,6 +255,60 @@ fn bench(args: BenchArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// The error after one frame of a camera path segment that has a reference.
+struct PathError {
+    frame: u32,
+    segment: usize,
+    accumulated: u32,
+    error: passgraph::bench::metrics::ImageError,
+}
+
+/// Renders each segment at its camera (a move restarts the accumulation; a reprojecting graph
+/// keeps what it can) and measures `channel` after every frame of segments with a reference.
+fn render_camera_path(
+    session: &mut Session,
+    segments: &[Segment],
+    channel: &ChannelSelection,
+) -> Result<Vec<PathError>, String> {
+    let mut rows = Vec::new();
+    let mut frame = 0;
+    for (i, segment) in segments.iter().enumerate() {
+        if segment.camera != session.scene_description().camera {
+            session
+                .set_camera(segment.camera)
+                .map_err(|e| e.to_string())?;
+        }
+        let reference = match &segment.reference {
+            Some(path) => Some((path, RgbImage::read_exr(path)?)),
+            None => None,
+        };
+        for _ in 0..segment.frames {
+            session.render_frame().map_err(|e| e.to_string())?;
+            frame += 1;
+            let Some((path, reference)) = &reference else {
+                continue;
+            };
+            let image = session.image(channel).map_err(|e| e.to_string())?;
+            let error =
+                image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!(
+                "frame {frame} (segment {}, {} accumulated): RMSE {:.5}, relMSE {:.3e}",
+                i + 1,
+                session.accumulated(),
+                error.rmse,
+                error.relmse
+            );
+            rows.push(PathError {
+                frame,
+                segment: i + 1,
+                accumulated: session.accumulated(),
+                error,
+            });
+        }
+    }
+    Ok(rows)
+}
+
 fn render(args: RenderArgs) -> Result<(), String> {
     let settings = RenderSettings {
         graph: args.graph,
@@ -254,10 +316,19 @@ fn render(args: RenderArgs) -> Result<(), String> {
         size: args.size,
         seed: args.seed,
         set: args.set,
-        adapter: args.adapter,
-        max_frames: args.frames,
+        adapter: args.adapter.clone(),
+        // A camera path restarts the accumulation at each move: no cap.
+        max_frames: if args.camera_path.is_some() {
+            u32::MAX
+        } else {
+            args.frames
+        },
     };
     let mut session = Session::new(&settings).map_err(|e| e.to_string())?;
+    let segments = match &args.camera_path {
+        Some(path) => Some(load_camera_path(path, session.scene_description().camera)?),
+        None => None,
+    };
     let info = session.context().adapter_info();
     let scene = session.scene();
     let bvh = &scene.bvh;
@@ -284,13 +355,26 @@ fn render(args: RenderArgs) -> Result<(), String> {
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
     }
+    let start = Instant::now();
+    if let Some(segments) = &segments {
+        let rows = render_camera_path(&mut session, segments, &args.channel)?;
+        if let Some(csv) = &args.error_csv {
+            let mut text = String::from("frame,segment,accumulated,rmse,relmse,bias\n");
+            for r in &rows {
+                text += &format!(
+                    "{},{},{},{},{},{}\n",
+                    r.frame, r.segment, r.accumulated, r.error.rmse, r.error.relmse, r.error.bias
+                );
+            }
+            passgraph::bench::report::write_text(csv, &text)?;
+        }
+    }
     let bar = indicatif::ProgressBar::new(u64::from(args.frames));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
             .map_err(|e| e.to_string())?,
     );
-    let start = Instant::now();
-    for _ in 0..args.frames {
+    for _ in 0..args.frames * u32::from(segments.is_none()) {
         session.render_frame().map_err(|e| e.to_string())?;
         bar.inc(1);
     }

@@ -2,6 +2,7 @@
 //! accumulation or an output texture), and the accumulate pass's arithmetic on the CPU.
 
 pub mod accumulate;
+pub mod camera_path;
 pub mod channels;
 pub mod image;
 pub mod output_texture;
