@@ -2,42 +2,19 @@
 //! against the Mitsuba reference at low frame counts, keeps a hard guide edge, never touches
 //! the raw accumulation, and fades itself out into the raw image.
 
+mod common;
+
+use common::render::{image, render, root};
 use passgraph::bench::metrics::image_error;
 use passgraph::compile_file;
 use passgraph::gpu::{Executor, GpuContext, ProvidedData};
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
-use passgraph::render::session::{RenderSettings, Session};
-use std::path::{Path, PathBuf};
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+use passgraph::render::session::RenderSettings;
+use std::path::PathBuf;
 
 fn settings(graph: &str, size: u32, seed: u32, set: &[&str]) -> RenderSettings {
-    RenderSettings {
-        graph: root().join(graph),
-        scene: root().join("scenes/cornell/scene.ron"),
-        size: [size, size],
-        seed,
-        set: set.iter().map(|s| s.to_string()).collect(),
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
-    }
-}
-
-fn render(s: &RenderSettings, frames: u32) -> Session {
-    let mut session = Session::new(s).unwrap_or_else(|e| panic!("session: {e}"));
-    for _ in 0..frames {
-        assert!(session.render_frame().unwrap());
-    }
-    session
-}
-
-fn image(session: &Session, channel: &str) -> RgbImage {
-    session
-        .image(&channel.parse::<ChannelSelection>().unwrap())
-        .unwrap_or_else(|e| panic!("{channel}: {e}"))
+    common::render::settings(graph, "scenes/cornell/scene.ron", size, seed, set)
 }
 
 /// The image without the emitter and the two pixels around it. The light's edge pixels are

@@ -2,32 +2,14 @@
 //! (lavapipe in CI): each light is drawn as often as the probability the estimator divides by,
 //! the probabilities sum to 1, and the images keep the all-lights images' means.
 
+mod common;
+
+use common::render::render;
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::session::{RenderSettings, Session};
-use std::path::Path;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn settings(graph: &str, scene: &str, size: u32, seed: u32) -> RenderSettings {
-    RenderSettings {
-        graph: root().join(graph),
-        scene: root().join(scene),
-        size: [size, size],
-        seed,
-        set: vec![],
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
-    }
-}
-
-fn render(s: &RenderSettings, frames: u32) -> Session {
-    let mut session = Session::new(s).unwrap_or_else(|e| panic!("session: {e}"));
-    for _ in 0..frames {
-        assert!(session.render_frame().unwrap());
-    }
-    session
+    common::render::settings(graph, scene, size, seed, &[])
 }
 
 const SCENE: &str = "tests/data/light_select/scene.ron";

@@ -2,41 +2,16 @@
 //! furnace and Mitsuba 3 references of the Cornell box. Every bound is derived from the
 //! variance measured in the same run, never widened by hand.
 
+mod common;
+
+use common::render::{image as channel, render, root};
 use passgraph::bench::metrics::{downsample_2x, image_error};
-use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};
-use std::path::Path;
 use std::sync::OnceLock;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn settings(scene: &str, size: u32, seed: u32, set: &[&str]) -> RenderSettings {
-    RenderSettings {
-        graph: root().join("graphs/pathtracer.ron"),
-        scene: root().join(scene),
-        size: [size, size],
-        seed,
-        set: set.iter().map(|s| s.to_string()).collect(),
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
-    }
-}
-
-fn render(s: &RenderSettings, frames: u32) -> Session {
-    let mut session = Session::new(s).unwrap_or_else(|e| panic!("session: {e}"));
-    for _ in 0..frames {
-        assert!(session.render_frame().unwrap());
-    }
-    session
-}
-
-fn channel(session: &Session, c: &str) -> RgbImage {
-    session
-        .image(&c.parse::<ChannelSelection>().unwrap())
-        .unwrap()
+    common::render::settings("graphs/pathtracer.ron", scene, size, seed, set)
 }
 
 /// Mean over pixels and components, and the standard error of that mean from the spread of

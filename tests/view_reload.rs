@@ -2,6 +2,9 @@
 //! sees edits when polled, keeps the last good session on a broken edit, and builds a new one
 //! when the files are good again. Runs on lavapipe.
 
+mod common;
+
+use common::copy_dir;
 use passgraph::gpu::GpuContext;
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::session::{RenderSettings, Session};
@@ -9,19 +12,6 @@ use passgraph::view::reload::{ReloadOutcome, Reloader};
 use std::path::Path;
 
 const SIZE: [u32; 2] = [32, 32];
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_dir(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), target).unwrap();
-        }
-    }
-}
 
 /// Renders a few frames and returns the mean of a channel.
 fn render_mean(session: &mut Session, channel: Channel) -> [f64; 3] {

@@ -1,6 +1,9 @@
 //! docs/writing-a-pass.md: the tutorial's files are what the doc shows, and the pass they add
 //! runs through the built binary from a fresh folder, with no rebuild.
 
+mod common;
+
+use common::copy_dir;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -59,19 +62,6 @@ fn the_doc_shows_the_tutorial_files_verbatim() {
             *body == file,
             "docs/writing-a-pass.md and docs/{path} disagree"
         );
-    }
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_dir(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), &target).unwrap();
-        }
     }
 }
 

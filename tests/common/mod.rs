@@ -1,5 +1,8 @@
-//! Test support: a scratch copy of the fixtures that a test may edit without touching others.
+//! Test support: a scratch copy of the fixtures that a test may edit without touching others,
+//! and (in `render`) sessions of the shipped graphs.
 #![allow(dead_code, clippy::result_large_err)]
+
+pub mod render;
 
 use passgraph::{GraphError, Plan, compile_file};
 use std::path::{Path, PathBuf};
@@ -20,7 +23,8 @@ pub struct Scratch {
     dir: tempfile::TempDir,
 }
 
-fn copy_dir(from: &Path, to: &Path) {
+/// Copies a directory tree.
+pub fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();
     for entry in std::fs::read_dir(from).unwrap() {
         let entry = entry.unwrap();
