@@ -1,17 +1,21 @@
 // Reprojection (graphs/pathtracer-reproject.ron): after a camera move, a pixel whose primary hit
 // lies on the surface that a pixel of the previous frame saw (that pixel's hit point close to
-// its plane, a similar normal, the same material) continues that pixel's accumulation instead of restarting.
-// Two entry points, around the lighting and accumulate passes of each frame:
-//   reproject: last frame's result and compensation, gathered through this frame's hits,
-//              -> history, history_compensation (accumulate then adds this frame to them);
-//   commit:    history -> result, and the guides the next frame's reproject reads.
+// its plane, a similar normal, the same material) continues that pixel's accumulation instead
+// of restarting. accumulate works in place on `result` as in graphs/pathtracer.ron; three entry
+// points around it:
+//   snapshot:  on a move only, result and compensation -> snapshot (the previous view's);
+//   reproject: on a move only, the snapshot gathered through this frame's hits -> result
+//              (zeros where nothing matches); every frame, the guide each pixel continues;
+//   commit:    after accumulate, the guides the next frame's reproject reads.
+// Without a move (camera == camera_previous) the buffers are left alone: the gather costs
+// nothing then (a masked-off loop), only on the frame after a move. After a reset
+// (camera_previous all zeros) every pixel restarts.
 // A pixel's guide describes the surface its accumulated samples saw: the first sample's hit
 // point, normal and material, or "mixed" once a sample lands on another material or plane
 // (silhouettes, the light's edge). Only pure pixels lend their history: a mean of light and
-// ceiling must not continue on a pixel that now sees only ceiling.
-// Without a move (camera == camera_previous) the history is the result, untouched; after a
-// reset (camera_previous all zeros) it is empty. Diffuse shading is view-independent, so a
-// reused mean is still right; view-dependent light (glossy highlights) would ghost.
+// ceiling must not continue on a pixel that now sees only ceiling. Diffuse shading is
+// view-independent, so a reused mean is still right; view-dependent light (glossy
+// highlights) would ghost.
 #include "lib/scene.wgsl"
 #include "lib/primary.wgsl"
 
@@ -29,25 +33,25 @@ struct Params {
 @group(0) @binding(3) var<uniform> frame: Frame;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
 @group(0) @binding(5) var triangles: texture_storage_2d<rgba32uint, read>;
-// reproject's inputs: last frame's accumulation and guides: a hit point, and a geometric
-// normal with w = material index + 2 (1: a miss; 0: no sample yet; -1: mixed).
+// snapshot's input and reproject's output: the accumulation accumulate continues in place.
 @group(0) @binding(6) var<storage, read> result: array<vec4<f32>>;
 @group(0) @binding(7) var<storage, read> compensation: array<vec4<f32>>;
-@group(0) @binding(8) var guide_position: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(9) var guide_normal: texture_storage_2d<rgba32float, read>;
-// reproject's outputs, commit's inputs.
-@group(0) @binding(10) var<storage, read_write> history: array<vec4<f32>>;
-@group(0) @binding(11) var<storage, read_write> history_compensation: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read_write> result_out: array<vec4<f32>>;
+@group(0) @binding(9) var<storage, read_write> compensation_out: array<vec4<f32>>;
+// The previous view's accumulation, copied on a move before the gather overwrites it.
+@group(0) @binding(10) var<storage, read_write> snapshot: array<vec4<f32>>;
+@group(0) @binding(11) var<storage, read_write> snapshot_compensation: array<vec4<f32>>;
+// The guides: a hit point, and a geometric normal with w = material index + 2 (1: a miss;
+// 0: no sample yet; -1: mixed). reproject reads last frame's, commit writes this frame's.
+@group(0) @binding(12) var guide_position: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(13) var guide_normal: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(14) var guide_position_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(15) var guide_normal_out: texture_storage_2d<rgba32float, write>;
 // The guide of the history each pixel continues (same encoding; w = 0 for a fresh start).
 @group(0) @binding(16) var carried_position: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(17) var carried_normal: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(18) var carried_position_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(19) var carried_normal_in: texture_storage_2d<rgba32float, read>;
-// commit's outputs.
-@group(0) @binding(12) var<storage, read_write> result_out: array<vec4<f32>>;
-@group(0) @binding(13) var<storage, read_write> compensation_out: array<vec4<f32>>;
-@group(0) @binding(14) var guide_position_out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(15) var guide_normal_out: texture_storage_2d<rgba32float, write>;
 
 // Planes of `result`: L0, direct, indirect, ambient, sum.
 const PLANES: u32 = 5u;
@@ -130,6 +134,20 @@ fn same_surface(x: HitPoint, y_p: vec3<f32>, y_n: vec4<f32>) -> bool {
 }
 
 @compute @workgroup_size(8, 8)
+fn snapshot_view(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(frame.width, frame.height);
+    if any(id.xy >= size) || same_camera(camera, camera_previous) {
+        return;
+    }
+    let plane = size.x * size.y;
+    let i = id.y * size.x + id.x;
+    for (var c = 0u; c < PLANES; c++) {
+        snapshot[c * plane + i] = result[c * plane + i];
+        snapshot_compensation[c * plane + i] = compensation[c * plane + i];
+    }
+}
+
+@compute @workgroup_size(8, 8)
 fn reproject(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.width, frame.height);
     if any(id.xy >= size) {
@@ -138,15 +156,17 @@ fn reproject(@builtin(global_invocation_id) id: vec3<u32>) {
     let plane = size.x * size.y;
     let i = id.y * size.x + id.x;
     let source = source_pixel(vec2<i32>(id.xy), size);
-    for (var c = 0u; c < PLANES; c++) {
-        var mean = vec4<f32>(0.0);
-        var error = vec4<f32>(0.0);
-        if source >= 0 {
-            mean = result[c * plane + u32(source)];
-            error = compensation[c * plane + u32(source)];
+    if !same_camera(camera, camera_previous) {
+        for (var c = 0u; c < PLANES; c++) {
+            var mean = vec4<f32>(0.0);
+            var error = vec4<f32>(0.0);
+            if source >= 0 {
+                mean = snapshot[c * plane + u32(source)];
+                error = snapshot_compensation[c * plane + u32(source)];
+            }
+            result_out[c * plane + i] = mean;
+            compensation_out[c * plane + i] = error;
         }
-        history[c * plane + i] = mean;
-        history_compensation[c * plane + i] = error;
     }
     var guide_p = vec4<f32>(0.0);
     var guide_n = vec4<f32>(0.0);
@@ -164,12 +184,6 @@ fn commit(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.width, frame.height);
     if any(id.xy >= size) {
         return;
-    }
-    let plane = size.x * size.y;
-    let i = id.y * size.x + id.x;
-    for (var c = 0u; c < PLANES; c++) {
-        result_out[c * plane + i] = history[c * plane + i];
-        compensation_out[c * plane + i] = history_compensation[c * plane + i];
     }
     // The guide of the history after this frame's sample x.
     let pixel = vec2<i32>(id.xy);
