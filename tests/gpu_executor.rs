@@ -38,23 +38,10 @@ fn read(executor: &Executor, name: &str) -> Vec<u8> {
         .unwrap_or_else(|e| panic!("reading {name}: {e}"))
 }
 
-/// IEEE half to single precision, by hand (normal, subnormal, zero, inf/NaN).
-fn f16_to_f32(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    sign * match exponent {
-        0 => mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => f32::INFINITY,
-        31 => f32::NAN,
-        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
 fn f16_channels(bytes: &[u8]) -> Vec<f32> {
     bytes
         .chunks_exact(2)
-        .map(|b| f16_to_f32(u16::from_le_bytes([b[0], b[1]])))
+        .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
         .collect()
 }
 

@@ -68,7 +68,7 @@ pub fn texture_image(bytes: &[u8], format: TextureFormat, width: u32, height: u3
     let channels: Vec<f32> = match format {
         TextureFormat::Rgba16Float => bytes
             .chunks_exact(2)
-            .map(|b| f16_to_f32(u16::from_le_bytes([b[0], b[1]])))
+            .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
             .collect(),
         _ => bytemuck::pod_collect_to_vec(bytes),
     };
@@ -82,32 +82,19 @@ pub fn texture_image(bytes: &[u8], format: TextureFormat, width: u32, height: u3
     }
 }
 
-/// IEEE 754 half to single precision (exact: every half is a single). By hand rather than a
-/// new dependency for eight lines.
-fn f16_to_f32(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    sign * match exponent {
-        0 => mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => f32::INFINITY,
-        31 => f32::NAN,
-        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn halves_decode_exactly() {
-        assert_eq!(f16_to_f32(0x3c00), 1.0);
-        assert_eq!(f16_to_f32(0xc000), -2.0);
-        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
-        assert_eq!(f16_to_f32(0x0001), 2f32.powi(-24));
-        assert_eq!(f16_to_f32(0x7c00), f32::INFINITY);
-        assert!(f16_to_f32(0x7e00).is_nan());
+    fn rgba16_texels_decode_exactly_little_endian() {
+        let bits: [u16; 8] = [0x3c00, 0xc000, 0x3555, 0x0001, 0x7c00, 0x7e00, 0x0001, 0];
+        let bytes: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
+        let img = texture_image(&bytes, TextureFormat::Rgba16Float, 2, 1);
+        assert_eq!(img.pixels[0], [1.0, -2.0, 0.333_251_95]);
+        assert_eq!(img.pixels[1][0], f32::INFINITY);
+        assert!(img.pixels[1][1].is_nan());
+        assert_eq!(img.pixels[1][2], 2f32.powi(-24));
     }
 
     #[test]
