@@ -84,29 +84,31 @@ fn same_camera(a: Camera, b: Camera) -> bool {
         && all(a.up == b.up);
 }
 
-// The pixel of the previous frame whose history pixel `pixel` continues, or -1.
-fn source_pixel(pixel: vec2<i32>, size: vec2<u32>) -> i32 {
-    let here = i32(u32(pixel.y) * size.x + u32(pixel.x));
+// No source pixel: the history restarts.
+const NO_SOURCE = vec2<i32>(-1);
+
+// The pixel of the previous frame whose history pixel `pixel` continues, or NO_SOURCE.
+fn source_pixel(pixel: vec2<i32>, size: vec2<u32>) -> vec2<i32> {
     if same_camera(camera, camera_previous) {
-        return here;
+        return pixel;
     }
     let x = hit_point(pixel);
     let previous = camera_previous;
     if x.material == 1.0 || all(previous.forward == vec3<f32>(0.0)) {
-        return -1;
+        return NO_SOURCE;
     }
     // Where x was on the previous image: forward is a unit vector, right and up are scaled
     // so that forward + sx right + sy up spans the image with sx, sy in [-1, 1].
     let d = x.p - previous.eye;
     let depth = dot(d, previous.forward);
     if depth <= 0.0 {
-        return -1;
+        return NO_SOURCE;
     }
     let sx = dot(d, previous.right) / (dot(previous.right, previous.right) * depth);
     let sy = dot(d, previous.up) / (dot(previous.up, previous.up) * depth);
     let at = vec2<f32>((sx + 1.0) * 0.5 * f32(size.x), (1.0 - sy) * 0.5 * f32(size.y));
     if any(at < vec2<f32>(0.0)) || any(at >= vec2<f32>(size)) {
-        return -1;
+        return NO_SOURCE;
     }
     let q = vec2<i32>(at);
     // q and its four neighbours: a pixel next to an edge in the previous view may cover the
@@ -116,10 +118,10 @@ fn source_pixel(pixel: vec2<i32>, size: vec2<u32>) -> i32 {
     for (var k = 0; k < 5; k++) {
         let r = clamp(q + NEIGHBOURHOOD[k], vec2<i32>(0), last);
         if !same_surface(x, textureLoad(guide_position, r).xyz, textureLoad(guide_normal, r)) {
-            return -1;
+            return NO_SOURCE;
         }
     }
-    return i32(u32(q.y) * size.x + u32(q.x));
+    return q;
 }
 
 // Whether guide y describes x's surface: the same material and, for hits, a point close to
@@ -155,14 +157,16 @@ fn reproject(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let plane = size.x * size.y;
     let i = id.y * size.x + id.x;
-    let source = source_pixel(vec2<i32>(id.xy), size);
+    let q = source_pixel(vec2<i32>(id.xy), size);
+    let found = q.x >= 0;
+    let source = u32(q.y) * size.x + u32(q.x);
     if !same_camera(camera, camera_previous) {
         for (var c = 0u; c < PLANES; c++) {
             var mean = vec4<f32>(0.0);
             var error = vec4<f32>(0.0);
-            if source >= 0 {
-                mean = snapshot[c * plane + u32(source)];
-                error = snapshot_compensation[c * plane + u32(source)];
+            if found {
+                mean = snapshot[c * plane + source];
+                error = snapshot_compensation[c * plane + source];
             }
             result_out[c * plane + i] = mean;
             compensation_out[c * plane + i] = error;
@@ -170,8 +174,7 @@ fn reproject(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     var guide_p = vec4<f32>(0.0);
     var guide_n = vec4<f32>(0.0);
-    if source >= 0 {
-        let q = vec2<i32>(source % i32(size.x), source / i32(size.x));
+    if found {
         guide_p = textureLoad(guide_position, q);
         guide_n = textureLoad(guide_normal, q);
     }

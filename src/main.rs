@@ -374,7 +374,9 @@ fn render(args: RenderArgs) -> Result<(), String> {
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
             .map_err(|e| e.to_string())?,
     );
-    for _ in 0..args.frames * u32::from(segments.is_none()) {
+    // A camera path has rendered its own frames above.
+    let frames = if segments.is_some() { 0 } else { args.frames };
+    for _ in 0..frames {
         session.render_frame().map_err(|e| e.to_string())?;
         bar.inc(1);
     }
