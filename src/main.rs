@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use passgraph::bench::metrics::image_error;
+use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
@@ -131,13 +132,14 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
-    /// A graph variant (repeatable): GRAPH or GRAPH@CHANNEL to compare CHANNEL instead of
-    /// --channel for this variant (e.g. graphs/pathtracer-denoise.ron@denoised).
-    #[arg(long = "graph", default_value = DEFAULT_GRAPH, value_parser = parse_variant)]
+    /// A graph variant (repeatable): GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...]; @CHANNEL
+    /// compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
+    /// :SETs override params for this variant only (see src/bench/variant.rs).
+    #[arg(long = "graph", default_value = DEFAULT_GRAPH)]
     graphs: Vec<Variant>,
     /// Linear EXR reference of the scene at --size.
-    #[arg(long)]
-    reference: PathBuf,
+    #[arg(long, required_unless_present = "combine")]
+    reference: Option<PathBuf>,
     /// Stop each variant after this much rendering time...
     #[arg(long, conflicts_with = "frames")]
     seconds: Option<f64>,
@@ -154,9 +156,15 @@ struct BenchArgs {
     /// Override a graph param in every variant: INSTANCE.PARAM=VALUE (repeatable).
     #[arg(long = "set")]
     set: Vec<String>,
-    /// A CSV from scripts/mitsuba-reference to put on the same chart and tables.
+    /// [LABEL=]CSV from scripts/mitsuba-reference to put on the same chart and tables
+    /// (repeatable: one curve per label; a label given several CSVs, one per round, gets the
+    /// median per sample count).
     #[arg(long)]
-    mitsuba: Option<PathBuf>,
+    mitsuba: Vec<String>,
+    /// Render nothing: report the median per checkpoint of the runs earlier `bench --out DIR`
+    /// runs wrote (repeatable: one DIR per round).
+    #[arg(long, conflicts_with_all = ["reference", "seconds", "frames"])]
+    combine: Vec<PathBuf>,
     /// Output directory.
     #[arg(long, default_value = "bench-out")]
     out: PathBuf,
@@ -164,38 +172,81 @@ struct BenchArgs {
     adapter: Option<String>,
 }
 
-/// A bench variant: a graph, and optionally the channel to compare for it.
-#[derive(Clone, Debug)]
-struct Variant {
-    graph: PathBuf,
-    channel: Option<ChannelSelection>,
-    channel_name: Option<String>,
-}
+/// The default label of a bare `--mitsuba CSV`.
+const MITSUBA_LABEL: &str = "Mitsuba 3 (llvm_ad_rgb, CPU)";
 
-/// GRAPH or GRAPH@CHANNEL; a path that exists as given is never split.
-fn parse_variant(text: &str) -> Result<Variant, String> {
-    let whole = Variant {
-        graph: PathBuf::from(text),
-        channel: None,
-        channel_name: None,
-    };
-    match text.rsplit_once('@') {
-        Some((graph, name)) if !name.is_empty() && !whole.graph.exists() => Ok(Variant {
-            graph: PathBuf::from(graph),
-            channel: Some(name.parse::<ChannelSelection>()?),
-            channel_name: Some(name.to_string()),
-        }),
-        _ => Ok(whole),
+/// `--mitsuba` arguments grouped by label, in the order given: LABEL=CSV, or CSV alone (a path
+/// that exists as given is never split).
+fn mitsuba_curves(args: &[String]) -> Vec<(String, Vec<PathBuf>)> {
+    let mut curves: Vec<(String, Vec<PathBuf>)> = Vec::new();
+    for arg in args {
+        let (label, csv) = match arg.split_once('=') {
+            Some((label, csv)) if !label.is_empty() && !std::path::Path::new(arg).exists() => {
+                (label.to_string(), PathBuf::from(csv))
+            }
+            _ => (MITSUBA_LABEL.to_string(), PathBuf::from(arg)),
+        };
+        match curves.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, csvs)) => csvs.push(csv),
+            None => curves.push((label, vec![csv])),
+        }
     }
+    curves
 }
 
 fn bench(args: BenchArgs) -> Result<(), String> {
-    use passgraph::bench::{plot, report, run, series::Series};
-    let reference = RgbImage::read_exr(&args.reference)?;
+    use passgraph::bench::{plot, report, rounds, series::Series};
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
+    let runs = if args.combine.is_empty() {
+        let runs = bench_render(&args)?;
+        rounds::write_runs(&args.out, &runs)?;
+        runs
+    } else {
+        let read: Vec<_> = args
+            .combine
+            .iter()
+            .map(|dir| rounds::read_runs(dir))
+            .collect::<Result<_, _>>()?;
+        let runs = rounds::combine(&read);
+        for r in &runs {
+            report::write_text(
+                &args.out.join(format!("{}.csv", r.label)),
+                &report::run_csv(r),
+            )?;
+        }
+        runs
+    };
+    let mut extra = Vec::new();
+    for (label, csvs) in mitsuba_curves(&args.mitsuba) {
+        let paths: Vec<&std::path::Path> = csvs.iter().map(PathBuf::as_path).collect();
+        extra.push(Series::from_mitsuba_csvs(&paths, &label)?);
+    }
+    let ours: Vec<Series> = runs.iter().map(Series::from_run).collect();
+    let chart = args.out.join("error-vs-time.png");
+    let scene_name = args.scene.display().to_string();
+    plot::write_plot(
+        &chart,
+        &format!("relMSE against time: {scene_name}"),
+        &ours,
+        &extra,
+    )?;
+    let md = report::markdown(&runs, &extra);
+    report::write_text(&args.out.join("report.md"), &md)?;
+    print!("{md}");
+    eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Renders every variant to the budget, writing each one's CSV as it finishes.
+fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, String> {
+    use passgraph::bench::{report, run};
+    let reference_path = args.reference.as_ref().ok_or("--reference is required")?;
+    let reference = RgbImage::read_exr(reference_path)?;
     if [reference.width, reference.height] != args.size {
         return Err(format!(
             "{}: the reference is {}x{} but --size is {}x{}",
-            args.reference.display(),
+            reference_path.display(),
             reference.width,
             reference.height,
             args.size[0],
@@ -206,53 +257,26 @@ fn bench(args: BenchArgs) -> Result<(), String> {
         (Some(s), _) => run::Budget::Seconds(s),
         (None, f) => run::Budget::Frames(f.unwrap_or(256)),
     };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
     let mut runs = Vec::new();
     for variant in &args.graphs {
-        let graph = &variant.graph;
-        let mut label = graph
-            .file_stem()
-            .map_or("graph".to_string(), |s| s.to_string_lossy().into_owned());
-        if let Some(name) = &variant.channel_name {
-            label = format!("{label}@{name}");
-        }
+        let label = &variant.label;
         let channel = variant.channel.as_ref().unwrap_or(&args.channel);
         let settings = RenderSettings {
-            graph: graph.clone(),
+            graph: variant.graph.clone(),
             scene: args.scene.clone(),
             size: args.size,
             seed: args.seed,
-            set: args.set.clone(),
+            set: args.set.iter().chain(&variant.set).cloned().collect(),
             adapter: args.adapter.clone(),
             max_frames: u32::MAX,
         };
         eprintln!("bench {label} ...");
         let r =
-            run::run(&label, &settings, channel, &reference, budget).map_err(|e| e.to_string())?;
+            run::run(label, &settings, channel, &reference, budget).map_err(|e| e.to_string())?;
         report::write_text(&args.out.join(format!("{label}.csv")), &report::run_csv(&r))?;
         runs.push(r);
     }
-    let mut extra = Vec::new();
-    if let Some(csv) = &args.mitsuba {
-        extra.push(Series::from_mitsuba_csv(
-            csv,
-            "Mitsuba 3 (llvm_ad_rgb, CPU)",
-        )?);
-    }
-    let all: Vec<Series> = runs
-        .iter()
-        .map(Series::from_run)
-        .chain(extra.iter().cloned())
-        .collect();
-    let chart = args.out.join("error-vs-time.png");
-    let scene_name = args.scene.display().to_string();
-    plot::write_plot(&chart, &format!("relMSE against time: {scene_name}"), &all)?;
-    let md = report::markdown(&runs, &extra);
-    report::write_text(&args.out.join("report.md"), &md)?;
-    print!("{md}");
-    eprintln!("wrote {}", args.out.display());
-    Ok(())
+    Ok(runs)
 }
 
 /// The error after one frame of a camera path segment that has a reference.

@@ -70,6 +70,124 @@ fn bench_writes_csv_chart_and_report_for_each_variant() {
 }
 
 #[test]
+fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let reference =
+        RgbImage::read_exr(&root.join("tests/data/references/cornell-128-depth3.exr")).unwrap();
+    let reference_path = dir.path().join("ref32.exr");
+    downsample_2x(&downsample_2x(&reference))
+        .write(&reference_path)
+        .unwrap();
+    let csv = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    // Two rounds of two samplers; "best" only reached 16 spp in one of them.
+    let independent1 = csv(
+        "i1.csv",
+        "spp,seconds,rmse,relmse\n1,0.01,0.3,0.2\n4,0.04,0.15,0.05\n",
+    );
+    let independent2 = csv(
+        "i2.csv",
+        "spp,seconds,rmse,relmse\n1,0.03,0.3,0.2\n4,0.06,0.15,0.05\n",
+    );
+    let best1 = csv(
+        "b1.csv",
+        "spp,seconds,rmse,relmse\n4,0.04,0.1,0.01\n16,0.2,0.05,0.002\n",
+    );
+    let best2 = csv("b2.csv", "spp,seconds,rmse,relmse\n4,0.02,0.1,0.01\n");
+    let graph = root.join("graphs/pathtracer.ron");
+    // The same graph twice, the second with a param of its own: two variants, two labels.
+    let with_set = format!("{}:intersect.reseed_on_restart=false", graph.display());
+    let bench = |out: &Path, extra: &[&std::ffi::OsStr]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_passgraph"))
+            .arg("bench")
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        std::fs::read_to_string(out.join("report.md")).unwrap()
+    };
+    let mut rounds = Vec::new();
+    for round in 0..2 {
+        let out = dir.path().join(format!("round{round}"));
+        let report = bench(
+            &out,
+            &[
+                "--size".as_ref(),
+                "32x32".as_ref(),
+                "--frames".as_ref(),
+                "4".as_ref(),
+                "--reference".as_ref(),
+                reference_path.as_os_str(),
+                "--graph".as_ref(),
+                graph.as_os_str(),
+                "--graph".as_ref(),
+                with_set.as_ref(),
+            ],
+        );
+        assert!(report.contains("| pathtracer | 4 |"), "{report}");
+        assert!(
+            report.contains("| pathtracer:intersect.reseed_on_restart=false | 4 |"),
+            "{report}"
+        );
+        assert!(out.join("runs.ron").exists());
+        rounds.push(out);
+    }
+    let mut args: Vec<std::ffi::OsString> = Vec::new();
+    for r in &rounds {
+        args.extend(["--combine".into(), r.clone().into_os_string()]);
+    }
+    for (label, path) in [
+        ("independent", &independent1),
+        ("best", &best1),
+        ("independent", &independent2),
+        ("best", &best2),
+    ] {
+        args.push("--mitsuba".into());
+        args.push(format!("Mitsuba {label}={}", path.display()).into());
+    }
+    let out = dir.path().join("combined");
+    let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+    let report = bench(&out, &args);
+    // Both variants, each with the frames every round reached.
+    assert!(report.contains("| pathtracer | 4 |"), "{report}");
+    assert!(
+        report.contains("| pathtracer:intersect.reseed_on_restart=false | 4 |"),
+        "{report}"
+    );
+    // Each Mitsuba curve is a row of its own, with the median time of its rounds at its last
+    // sample count kept by both rounds (4 spp; 16 spp was rendered in one round of two only).
+    assert!(
+        report.contains("| Mitsuba independent | – | 0.05 |"),
+        "{report}"
+    );
+    assert!(report.contains("| Mitsuba best | – | 0.03 |"), "{report}");
+    // A ratio table per Mitsuba curve, in the order given.
+    let ratio_independent = report
+        .find("relMSE(variant) / relMSE(Mitsuba independent) at equal time")
+        .expect(&report);
+    let ratio_best = report
+        .find("relMSE(variant) / relMSE(Mitsuba best) at equal time")
+        .expect(&report);
+    assert!(ratio_independent < ratio_best);
+    assert!(
+        out.join("pathtracer:intersect.reseed_on_restart=false.csv")
+            .exists()
+    );
+    let chart = image::open(out.join("error-vs-time.png")).unwrap();
+    assert_eq!((chart.width(), chart.height()), (900, 600));
+}
+
+#[test]
 fn bench_refuses_a_reference_of_another_size() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = Command::new(env!("CARGO_BIN_EXE_passgraph"))

@@ -3,7 +3,7 @@
 use crate::render::image::RgbImage;
 
 /// Per-component statistics of `image - reference`, over every pixel and colour component.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ImageError {
     /// Root mean squared error.
     pub rmse: f64,

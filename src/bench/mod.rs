@@ -3,5 +3,7 @@
 pub mod metrics;
 pub mod plot;
 pub mod report;
+pub mod rounds;
 pub mod run;
 pub mod series;
+pub mod variant;

@@ -1,4 +1,5 @@
-//! The error-against-time chart: relMSE over seconds, log-log, every variant on one chart.
+//! The error-against-time chart: relMSE over seconds, log-log, every variant on one chart;
+//! other renderers' curves (Mitsuba's samplers) dashed, so the two sides read apart.
 
 use super::series::Series;
 use plotters::prelude::*;
@@ -17,7 +18,14 @@ fn register_font() -> Result<(), String> {
         .map_err(|_| format!("{FONT}: not a font plotters can read"))
 }
 
-pub fn write_plot(path: &Path, title: &str, series: &[Series]) -> Result<(), String> {
+/// Draws `runs` (passgraph's variants) solid and `others` dashed.
+pub fn write_plot(
+    path: &Path,
+    title: &str,
+    runs: &[Series],
+    others: &[Series],
+) -> Result<(), String> {
+    let series: Vec<&Series> = runs.iter().chain(others).collect();
     static FONT_ONCE: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
     FONT_ONCE.get_or_init(register_font).clone()?;
     let points = || series.iter().flat_map(|s| &s.points);
@@ -63,17 +71,25 @@ pub fn write_plot(path: &Path, title: &str, series: &[Series]) -> Result<(), Str
             .map_err(|e| fail(&e))?;
         for (i, s) in series.iter().enumerate() {
             let color = Palette99::pick(i).to_rgba();
+            let dashed = i >= runs.len();
             let line: Vec<(f64, f64)> = s
                 .points
                 .iter()
                 .filter(|p| p.seconds > 0.0 && p.relmse > 0.0)
                 .map(|p| (p.seconds, p.relmse))
                 .collect();
-            chart
-                .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
+            let style = color.stroke_width(2);
+            let drawn = if dashed {
+                chart.draw_series(DashedLineSeries::new(line.clone(), 8, 5, style))
+            } else {
+                chart.draw_series(LineSeries::new(line.clone(), style))
+            };
+            drawn
                 .map_err(|e| fail(&e))?
                 .label(s.label.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
             chart
                 .draw_series(line.into_iter().map(|p| Circle::new(p, 3, color.filled())))
                 .map_err(|e| fail(&e))?;

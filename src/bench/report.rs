@@ -1,5 +1,6 @@
 //! Bench outputs: a CSV per run and a markdown report (equal time, equal error, per pass).
 
+use super::rounds::median;
 use super::run::Run;
 use super::series::Series;
 use crate::atomic_write::write_atomic;
@@ -40,16 +41,15 @@ fn cell(v: Option<f64>, format: impl Fn(f64) -> String) -> String {
     v.map_or("–".to_string(), format)
 }
 
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
-}
+/// Seconds at which the report compares relMSE.
+pub const EQUAL_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
+/// relMSE levels whose time to reach the report compares (the multijitter reference's own
+/// noise, relMSE ~2e-6, stays below the last).
+pub const EQUAL_ERRORS: [f64; 7] = [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5];
 
-/// The markdown report: a summary per run, relMSE at equal times, times to equal errors
-/// (passgraph runs and any extra series such as Mitsuba), and GPU milliseconds per pass.
+/// The markdown report: a summary per run, relMSE at equal times, for each extra series (such
+/// as a Mitsuba sampler) the ratio of every run's relMSE to it at equal times, times to equal
+/// errors (passgraph runs and the extra series), and GPU milliseconds per pass.
 pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
     let mut out = String::new();
     let all: Vec<Series> = runs
@@ -85,7 +85,7 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
         }
     }
 
-    let times = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
+    let times = EQUAL_TIMES;
     out.push_str(
         "\nrelMSE at equal time (log-log interpolation between checkpoints):\n\n| variant |",
     );
@@ -103,7 +103,30 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
         out.push('\n');
     }
 
-    let errors = [1e-2, 3e-3, 1e-3, 7.2e-4, 3.6e-4, 1e-4];
+    for e in extra {
+        let _ = write!(
+            out,
+            "\nrelMSE(variant) / relMSE({}) at equal time (below 1: passgraph ahead):\n\n| variant |",
+            e.label
+        );
+        for t in times {
+            let _ = write!(out, " {t} s |");
+        }
+        out.push_str("\n|---|");
+        out.push_str(&"---|".repeat(times.len()));
+        out.push('\n');
+        for r in runs {
+            let s = Series::from_run(r);
+            let _ = write!(out, "| {} |", s.label);
+            for t in times {
+                let ratio = s.relmse_at(t).zip(e.relmse_at(t)).map(|(a, b)| a / b);
+                let _ = write!(out, " {} |", cell(ratio, |v| format!("{v:.2}")));
+            }
+            out.push('\n');
+        }
+    }
+
+    let errors = EQUAL_ERRORS;
     out.push_str("\nSeconds to reach a relMSE:\n\n| variant |");
     for e in errors {
         let _ = write!(out, " {e:.1e} |");

@@ -16,7 +16,7 @@ pub enum Budget {
 }
 
 /// The error and cost after some frames.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
     pub frames: u32,
     /// Wall time of rendering only (submission and GPU work), readbacks excluded.
@@ -26,7 +26,7 @@ pub struct Checkpoint {
     pub pass_ms: Option<Vec<f64>>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Run {
     pub label: String,
     pub pass_names: Vec<String>,

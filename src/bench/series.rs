@@ -1,6 +1,7 @@
 //! Error-against-time curves, from passgraph runs or from Mitsuba's CSV, and reading them at
 //! equal time or equal error.
 
+use super::rounds::{majority_keys, median};
 use super::run::Run;
 use std::path::Path;
 
@@ -36,34 +37,37 @@ impl Series {
 
     /// Reads `scripts/mitsuba-reference`'s CSV (columns spp, seconds, ..., rmse, relmse).
     pub fn from_mitsuba_csv(path: &Path, label: &str) -> Result<Series, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        let mut lines = text.lines();
-        let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-        let column = |name: &str| {
-            header.iter().position(|h| *h == name).ok_or_else(|| {
-                format!(
-                    "{}: no '{name}' column (run the script with --reference)",
-                    path.display()
-                )
+        Series::from_mitsuba_csvs(&[path], label)
+    }
+
+    /// One curve from several rounds of `scripts/mitsuba-reference` (one CSV each): per sample
+    /// count, the median of the rounds that rendered it, kept if more than half did (see
+    /// `rounds`).
+    pub fn from_mitsuba_csvs(paths: &[&Path], label: &str) -> Result<Series, String> {
+        let rounds: Vec<Vec<(u64, Point)>> = paths
+            .iter()
+            .map(|p| read_mitsuba_csv(p))
+            .collect::<Result<_, _>>()?;
+        let keys = majority_keys(rounds.iter().flatten().map(|(k, _)| *k), rounds.len());
+        let mut points: Vec<Point> = keys
+            .into_iter()
+            .map(|k| {
+                let at: Vec<&Point> = rounds
+                    .iter()
+                    .flatten()
+                    .filter(|(key, _)| *key == k)
+                    .map(|(_, p)| p)
+                    .collect();
+                let m = |get: fn(&Point) -> f64| {
+                    median(at.iter().map(|p| get(p)).collect()).unwrap_or(f64::NAN)
+                };
+                Point {
+                    seconds: m(|p| p.seconds),
+                    rmse: m(|p| p.rmse),
+                    relmse: m(|p| p.relmse),
+                }
             })
-        };
-        let (s, r, q) = (column("seconds")?, column("rmse")?, column("relmse")?);
-        let mut points = Vec::new();
-        for (i, line) in lines.enumerate() {
-            let cells: Vec<&str> = line.split(',').collect();
-            let number = |k: usize| {
-                cells
-                    .get(k)
-                    .and_then(|c| c.trim().parse::<f64>().ok())
-                    .ok_or_else(|| format!("{}:{}: bad number", path.display(), i + 2))
-            };
-            points.push(Point {
-                seconds: number(s)?,
-                rmse: number(r)?,
-                relmse: number(q)?,
-            });
-        }
+            .collect();
         points.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
         Ok(Series {
             label: label.to_string(),
@@ -93,6 +97,48 @@ impl Series {
             })
         })
     }
+}
+
+/// The rows of one CSV, keyed by their sample count (the row number if there is no `spp`).
+fn read_mitsuba_csv(path: &Path) -> Result<Vec<(u64, Point)>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let position = |name: &str| header.iter().position(|h| *h == name);
+    let column = |name: &str| {
+        position(name).ok_or_else(|| {
+            format!(
+                "{}: no '{name}' column (run the script with --reference)",
+                path.display()
+            )
+        })
+    };
+    let (s, r, q) = (column("seconds")?, column("rmse")?, column("relmse")?);
+    let spp = position("spp");
+    let mut rows = Vec::new();
+    for (i, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let number = |k: usize| {
+            cells
+                .get(k)
+                .and_then(|c| c.trim().parse::<f64>().ok())
+                .ok_or_else(|| format!("{}:{}: bad number", path.display(), i + 2))
+        };
+        let key = match spp {
+            Some(k) => number(k)? as u64,
+            None => i as u64,
+        };
+        rows.push((
+            key,
+            Point {
+                seconds: number(s)?,
+                rmse: number(r)?,
+                relmse: number(q)?,
+            },
+        ));
+    }
+    Ok(rows)
 }
 
 fn log_lerp(a: (f64, f64), b: (f64, f64), x: f64) -> f64 {
@@ -152,5 +198,27 @@ mod tests {
         .unwrap();
         let s = Series::from_mitsuba_csv(&path, "m").unwrap();
         assert_eq!(s.points[0].seconds, 0.1, "sorted by time");
+    }
+
+    #[test]
+    fn mitsuba_rounds_combine_by_sample_count() {
+        let dir = tempfile::tempdir().unwrap();
+        let write = |name: &str, text: &str| {
+            let path = dir.path().join(name);
+            std::fs::write(&path, text).unwrap();
+            path
+        };
+        let a = write(
+            "a.csv",
+            "spp,seconds,rmse,relmse\n1,0.1,0.2,0.08\n4,0.4,0.1,0.02\n",
+        );
+        let b = write("b.csv", "spp,seconds,rmse,relmse\n1,0.3,0.2,0.08\n");
+        let c = write(
+            "c.csv",
+            "spp,seconds,rmse,relmse\n1,0.2,0.2,0.08\n4,0.6,0.1,0.02\n",
+        );
+        let s = Series::from_mitsuba_csvs(&[&a, &b, &c], "m").unwrap();
+        let points: Vec<(f64, f64)> = s.points.iter().map(|p| (p.seconds, p.relmse)).collect();
+        assert_eq!(points, [(0.2, 0.08), (0.5, 0.02)]);
     }
 }
