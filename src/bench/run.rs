@@ -60,7 +60,21 @@ pub fn run(
     reference: &RgbImage,
     budget: Budget,
 ) -> Result<Run, RenderError> {
-    let mut session = Session::new(settings)?;
+    match budget {
+        // Never reached: the run would not end.
+        Budget::Seconds(s) if !(s.is_finite() && s > 0.0) => {
+            return Err(RenderError::Other(format!(
+                "a budget of {s} seconds is not a finite, positive time"
+            )));
+        }
+        Budget::Frames(0) => {
+            return Err(RenderError::Other(
+                "a budget of 0 frames renders nothing".into(),
+            ));
+        }
+        _ => {}
+    }
+    let mut session = Session::for_render(settings, channels)?;
     let pass_names = session
         .plan()
         .passes

@@ -4,7 +4,7 @@ use super::decl::{Dispatch, PassInstanceDecl};
 use super::deps::ResourceId;
 use super::error::GraphError;
 use super::format::{SampleKind, TextureDim, TextureFormat};
-use super::interface::{Access, BindingKind};
+use super::interface::{Access, BindingKind, ShaderBinding};
 use super::load::LoadedPass;
 use super::param::ParamValue;
 use super::plan::{ParamsUniform, PlannedBinding, PlannedResource, ResourceKind};
@@ -152,6 +152,14 @@ pub fn bind_instance(
                 reason,
             });
         }
+        check_bounds(
+            graph_file,
+            instance,
+            pass.decl.dispatch,
+            b,
+            &resources[id],
+            output_size,
+        )?;
         bindings.push(PlannedBinding {
             name: b.name.clone(),
             group: b.group,
@@ -219,6 +227,55 @@ pub fn bind_instance(
         uses,
         usages,
     })
+}
+
+/// What reflection can prove goes out of bounds: a constant layer index beyond the texture's
+/// layers, or a per-pixel pass writing a texture smaller than the output it is dispatched over
+/// (the pixels past its edge are dropped: part of the image would never be written).
+fn check_bounds(
+    graph_file: &Path,
+    instance: &PassInstanceDecl,
+    dispatch: Dispatch,
+    b: &ShaderBinding,
+    resource: &PlannedResource,
+    [out_w, out_h]: [u32; 2],
+) -> Result<(), GraphError> {
+    let ResourceKind::Texture {
+        width,
+        height,
+        layers,
+        ..
+    } = resource.kind
+    else {
+        return Ok(());
+    };
+    let error = |reason: String| GraphError::OutOfBounds {
+        graph: graph_file.to_path_buf(),
+        pass: instance.name.clone(),
+        binding: b.name.clone(),
+        resource: resource.name.clone(),
+        reason,
+    };
+    if let Some(layer) = b.max_constant_layer {
+        if layer >= layers {
+            return Err(error(format!(
+                "the shader uses layer {layer}, but '{}' has {layers} layer{}; declare it with layers: {}",
+                resource.name,
+                if layers == 1 { "" } else { "s" },
+                u64::from(layer) + 1
+            )));
+        }
+    }
+    if dispatch == Dispatch::PerPixel
+        && b.kind.access().writes()
+        && (width < out_w || height < out_h)
+    {
+        return Err(error(format!(
+            "the pass runs once per output pixel ({out_w}x{out_h}) and writes '{}', which is only {width}x{height}: the pixels beyond it would be lost; give it size: Output",
+            resource.name
+        )));
+    }
+    Ok(())
 }
 
 fn resolve_params(

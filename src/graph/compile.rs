@@ -25,6 +25,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
     let file = graph.file.as_path();
     let decl = &graph.decl;
     check_unique_names(file, decl)?;
+    check_not_empty(file, decl)?;
     for pass in graph.passes.values() {
         check_pass_params(pass)?;
     }
@@ -193,6 +194,21 @@ fn check_unique_names(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
         }
     }
     Ok(())
+}
+
+/// A graph without passes or outputs would compile to a plan that does nothing.
+fn check_not_empty(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
+    let reason = if decl.passes.is_empty() {
+        "the graph has no passes; list at least one in `passes`"
+    } else if decl.outputs.is_empty() {
+        "the graph has no outputs, so every pass would be culled; list what the host reads back in `outputs`"
+    } else {
+        return Ok(());
+    };
+    Err(GraphError::EmptyGraph {
+        graph: file.to_path_buf(),
+        reason: reason.to_string(),
+    })
 }
 
 /// Declared resources (sized for this output) followed by every provided resource.

@@ -216,6 +216,27 @@ pub enum GraphError {
 
     #[error("{}: no pass writes output '{output}'", graph.display())]
     OutputNotWritten { graph: PathBuf, output: String },
+
+    #[error("{}: {reason}", graph.display())]
+    EmptyGraph { graph: PathBuf, reason: String },
+
+    #[error("{}: resource '{resource}': {reason}", graph.display())]
+    Contract {
+        graph: PathBuf,
+        /// The application whose needs the graph does not meet (e.g. "render").
+        user: String,
+        resource: String,
+        reason: String,
+    },
+
+    #[error("{}: pass '{pass}', binding '{binding}' -> resource '{resource}': {reason}", graph.display())]
+    OutOfBounds {
+        graph: PathBuf,
+        pass: String,
+        binding: String,
+        resource: String,
+        reason: String,
+    },
 }
 
 fn cycle_text(passes: &[String], via: &[String]) -> String {

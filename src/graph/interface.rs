@@ -92,6 +92,9 @@ pub struct ShaderBinding {
     pub group: u32,
     pub binding: u32,
     pub kind: BindingKind,
+    /// For an arrayed texture: the highest layer the entry point loads or stores with a
+    /// constant index (`textureStore(rays, pixel, 2, ...)`), which the bound texture must have.
+    pub max_constant_layer: Option<u32>,
 }
 
 /// A field of the pass's `params` uniform block.

@@ -14,6 +14,7 @@ use naga::{
     AddressSpace, Handle, ImageClass, ImageDimension, Module, Scalar, ScalarKind, ShaderStage,
     StorageAccess, Type, TypeInner, VectorSize,
 };
+use std::collections::{HashMap, HashSet};
 use std::error::Error as _;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -113,6 +114,7 @@ pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, Gr
     }
 
     let uses = info.get_entry_point(index);
+    let layers = constant_layers(&module, &entry_point.function);
     let mut bindings = Vec::new();
     let mut params = None;
     for (handle, var) in module.global_variables.iter() {
@@ -146,6 +148,7 @@ pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, Gr
                 group: slot.group,
                 binding: slot.binding,
                 kind,
+                max_constant_layer: layers.get(&handle).copied(),
             }),
             Err(reason) => return Err(unsupported(&name, reason)),
         }
@@ -187,6 +190,90 @@ pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, Gr
         params,
         overrides,
     })
+}
+
+/// The highest constant layer index each global texture is loaded or stored with, in `entry`
+/// and every function it calls.
+fn constant_layers(
+    module: &Module,
+    entry: &naga::Function,
+) -> HashMap<Handle<naga::GlobalVariable>, u32> {
+    use naga::{Expression, Statement};
+    let mut highest = HashMap::new();
+    let mut seen = HashSet::new();
+    let mut pending = vec![entry];
+    while let Some(function) = pending.pop() {
+        let exprs = &function.expressions;
+        let mut note = |image: Handle<Expression>, index: Option<Handle<Expression>>| {
+            let Expression::GlobalVariable(global) = exprs[image] else {
+                return;
+            };
+            let Some(layer) = index.and_then(|i| constant_u32(module, exprs, i)) else {
+                return;
+            };
+            let slot = highest.entry(global).or_insert(layer);
+            *slot = (*slot).max(layer);
+        };
+        for (_, e) in exprs.iter() {
+            if let Expression::ImageLoad {
+                image, array_index, ..
+            } = *e
+            {
+                note(image, array_index);
+            }
+        }
+        // Statements nest (if, loop, switch); walk them with an explicit stack.
+        let mut blocks = vec![&function.body];
+        while let Some(block) = blocks.pop() {
+            for statement in block.iter() {
+                match statement {
+                    Statement::ImageStore {
+                        image, array_index, ..
+                    } => note(*image, *array_index),
+                    Statement::Call { function, .. } if seen.insert(*function) => {
+                        pending.push(&module.functions[*function]);
+                    }
+                    Statement::Block(b) => blocks.push(b),
+                    Statement::If { accept, reject, .. } => {
+                        blocks.push(accept);
+                        blocks.push(reject);
+                    }
+                    Statement::Loop {
+                        body, continuing, ..
+                    } => {
+                        blocks.push(body);
+                        blocks.push(continuing);
+                    }
+                    Statement::Switch { cases, .. } => blocks.extend(cases.iter().map(|c| &c.body)),
+                    _ => {}
+                }
+            }
+        }
+    }
+    highest
+}
+
+/// The value of a constant integer expression (a literal or a named `const`), if it is one.
+fn constant_u32(
+    module: &Module,
+    exprs: &naga::Arena<naga::Expression>,
+    e: Handle<naga::Expression>,
+) -> Option<u32> {
+    use naga::{Expression, Literal};
+    let literal = |e: &Expression| match *e {
+        Expression::Literal(l) => Some(l),
+        _ => None,
+    };
+    let value = match exprs[e] {
+        Expression::Constant(c) => literal(&module.global_expressions[module.constants[c].init])?,
+        ref other => literal(other)?,
+    };
+    match value {
+        Literal::U32(v) => Some(v),
+        Literal::I32(v) => u32::try_from(v).ok(),
+        Literal::AbstractInt(v) => u32::try_from(v).ok(),
+        _ => None,
+    }
 }
 
 /// Address spaces whose variables are bound by the pipeline rather than owned by the shader.

@@ -5,6 +5,7 @@ use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_image};
 use crate::gpu::{Executor, GpuContext, GpuError, ProvidedData};
 use crate::graph::compile::compile;
+use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
 use crate::graph::error::GraphError;
 use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::Plan;
@@ -51,6 +52,10 @@ impl RenderSettings {
 /// declares them.
 pub const RESULT: &str = "result";
 pub const DROPPED: &str = "dropped";
+/// The shader binding through which a pass counts its rays.
+pub const RAY_COUNT: &str = "ray_count";
+/// Five planes of vec4<f32>.
+pub const RESULT_BYTES_PER_PIXEL: u64 = 5 * 16;
 /// The provided uniform holding the previous frame's camera, all zeros when there is none.
 pub const CAMERA_PREVIOUS: &str = "camera_previous";
 
@@ -74,8 +79,24 @@ pub struct Session {
 }
 
 impl Session {
+    /// A session of any graph that compiles; reading the image, the dropped samples or the
+    /// rays needs what [`render_contract`] lists (see [`Session::for_render`]).
     pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
-        Session::build(settings, || GpuContext::new(settings.adapter.as_deref()))
+        Session::build(settings, None, || {
+            GpuContext::new(settings.adapter.as_deref())
+        })
+    }
+
+    /// A session whose graph is first checked against what `render` reads back for `channel`
+    /// (before any GPU work), so a graph that cannot be shown fails with the graph's name and
+    /// resource instead of after the frames.
+    pub fn for_render(
+        settings: &RenderSettings,
+        channel: &ChannelSelection,
+    ) -> Result<Session, RenderError> {
+        Session::build(settings, Some(channel), || {
+            GpuContext::new(settings.adapter.as_deref())
+        })
     }
 
     /// A session on an existing device (`settings.adapter` is not consulted): a viewer renders
@@ -84,11 +105,12 @@ impl Session {
         ctx: GpuContext,
         settings: &RenderSettings,
     ) -> Result<Session, RenderError> {
-        Session::build(settings, || Ok(ctx))
+        Session::build(settings, None, || Ok(ctx))
     }
 
     fn build(
         settings: &RenderSettings,
+        shown: Option<&ChannelSelection>,
         context: impl FnOnce() -> Result<GpuContext, GpuError>,
     ) -> Result<Session, RenderError> {
         let mut graph = load_graph(&settings.graph)?;
@@ -97,6 +119,9 @@ impl Session {
             set_param(&mut graph, s)?;
         }
         let plan = compile(&graph, settings.size)?;
+        if let Some(channel) = shown {
+            check_render_contract(&plan, channel)?;
+        }
         let scene = load_scene(&settings.scene)?;
         let gpu_scene = scene.to_gpu();
         let ctx = context()?;
@@ -201,7 +226,19 @@ impl Session {
         let [w, h] = self.size;
         match channels {
             ChannelSelection::Planes(planes) => {
-                Ok(RgbImage::from_result(&self.result()?, w, h, planes))
+                let result = self.result()?;
+                let needed = planes.iter().map(|c| c.layer() + 1).max().unwrap_or(0)
+                    * (w as usize * h as usize);
+                // Graphs are checked against render_contract; a session of another graph
+                // gets an error here rather than an out-of-bounds panic.
+                if result.len() < needed {
+                    return Err(RenderError::Other(format!(
+                        "{}: '{RESULT}' holds {} pixels of planes, but {channels} at {w}x{h} needs {needed}",
+                        self.plan.graph.display(),
+                        result.len()
+                    )));
+                }
+                Ok(RgbImage::from_result(&result, w, h, planes))
             }
             ChannelSelection::Texture(name) => {
                 let format = output_texture_format(&self.plan, name).map_err(RenderError::Other)?;
@@ -230,7 +267,7 @@ impl Session {
     pub fn rays_counted(&self) -> Result<Option<u64>, RenderError> {
         let mut total = None;
         for pass in &self.plan.passes {
-            let Some(binding) = pass.bindings.iter().find(|b| b.name == "ray_count") else {
+            let Some(binding) = pass.bindings.iter().find(|b| b.name == RAY_COUNT) else {
                 continue;
             };
             let name = &self.plan.resources[binding.resource].name;
@@ -248,6 +285,47 @@ impl Session {
     pub fn scene_description(&self) -> &Scene {
         &self.scene
     }
+}
+
+/// What `render` (and `bench`) read back from a graph showing `channel`: the accumulation
+/// buffer (for a channel of it), the dropped-sample counter and every `ray_count` buffer.
+pub fn render_contract(channel: &ChannelSelection) -> Contract {
+    let mut buffers = Vec::new();
+    if let ChannelSelection::Planes(_) = channel {
+        buffers.push(RequiredBuffer {
+            name: RESULT.to_string(),
+            by_binding: false,
+            min: MinSize::PerPixel(RESULT_BYTES_PER_PIXEL),
+            why: "the image: 5 planes (l0, direct, indirect, ambient, sum) of vec4<f32> per pixel"
+                .to_string(),
+        });
+    }
+    buffers.push(RequiredBuffer {
+        name: DROPPED.to_string(),
+        by_binding: false,
+        min: MinSize::Bytes(4),
+        why: "the count of dropped samples, a u32".to_string(),
+    });
+    buffers.push(RequiredBuffer {
+        name: RAY_COUNT.to_string(),
+        by_binding: true,
+        min: MinSize::Bytes(8),
+        why: "the rays counted, a 64-bit count as two u32".to_string(),
+    });
+    Contract {
+        user: "render".to_string(),
+        buffers,
+    }
+}
+
+/// Checks a compiled plan against [`render_contract`], and that a texture channel names an
+/// output texture that can be shown.
+pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<(), RenderError> {
+    render_contract(channel).check(plan)?;
+    if let ChannelSelection::Texture(name) = channel {
+        output_texture_format(plan, name).map_err(RenderError::Other)?;
+    }
+    Ok(())
 }
 
 fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
