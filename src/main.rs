@@ -4,9 +4,9 @@ use clap::{Parser, Subcommand};
 use passgraph::bench::metrics::image_error;
 use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
-use passgraph::render::channels::ChannelSelection;
-use passgraph::render::image::RgbImage;
-use passgraph::render::session::{RenderSettings, Session};
+use passgraph::render::channels::{Channel, ChannelSelection};
+use passgraph::render::image::{RgbImage, check_output_path};
+use passgraph::render::session::{RenderSettings, Session, check_render_contract};
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -33,8 +33,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Load and compile a graph; report the first error.
-    Check(GraphArgs),
+    /// Load and compile a graph, and check it has what `render` reads back; report the first
+    /// error.
+    Check {
+        #[command(flatten)]
+        graph: GraphArgs,
+        /// Check only the framework's rules, not what `render` needs (`result`, `dropped`,
+        /// ray counts): for graphs run through the library.
+        #[arg(long)]
+        generic: bool,
+    },
     /// Print the compiled plan: stages, barriers, culled passes, lifetimes and reuse.
     Plan(GraphArgs),
     /// Render a scene progressively with a graph and write images.
@@ -72,7 +80,7 @@ struct RenderArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
     /// Frames to accumulate (one sample per pixel each).
-    #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES)]
+    #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES, value_parser = parse_frames)]
     frames: u32,
     /// Image size, WxH.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
@@ -141,10 +149,10 @@ struct BenchArgs {
     #[arg(long, required_unless_present = "combine")]
     reference: Option<PathBuf>,
     /// Stop each variant after this much rendering time...
-    #[arg(long, conflicts_with = "frames")]
+    #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
     seconds: Option<f64>,
     /// ...or after this many frames (default 256).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_frames)]
     frames: Option<u32>,
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     size: [u32; 2],
@@ -194,8 +202,20 @@ fn mitsuba_curves(args: &[String]) -> Vec<(String, Vec<PathBuf>)> {
     curves
 }
 
-fn bench(args: BenchArgs) -> Result<(), String> {
+fn bench(args: BenchArgs) -> Result<(), Failure> {
     use passgraph::bench::{plot, report, rounds, series::Series};
+    // Each variant writes <label>.csv: two variants with one label would overwrite each other.
+    let mut labels = std::collections::BTreeMap::new();
+    for variant in &args.graphs {
+        if let Some(other) = labels.insert(&variant.label, &variant.graph) {
+            return Err(Failure::Usage(format!(
+                "--graph {} and --graph {} are both named '{}' in the report; bench each variant once",
+                other.display(),
+                variant.graph.display(),
+                variant.label
+            )));
+        }
+    }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
     let runs = if args.combine.is_empty() {
@@ -333,7 +353,38 @@ fn render_camera_path(
     Ok(rows)
 }
 
-fn render(args: RenderArgs) -> Result<(), String> {
+fn render(args: RenderArgs) -> Result<(), Failure> {
+    // Everything that can be checked before rendering is: a mistake should not cost the frames.
+    if args.error_csv.is_some() && args.camera_path.is_none() {
+        return Err(Failure::Usage(
+            "--error-csv needs --camera-path (the errors it writes are a camera path's)".into(),
+        ));
+    }
+    for path in &args.out {
+        check_output_path(path).map_err(Failure::Usage)?;
+    }
+    if let Some(csv) = &args.error_csv {
+        passgraph::atomic_write::check_target(csv)
+            .map_err(|e| Failure::Usage(format!("{}: cannot write: {e}", csv.display())))?;
+    }
+    let reference = match &args.reference {
+        Some(path) => {
+            let reference = RgbImage::read_exr(path)?;
+            if [reference.width, reference.height] != args.size {
+                return Err(format!(
+                    "{}: the reference is {}x{} but --size is {}x{}",
+                    path.display(),
+                    reference.width,
+                    reference.height,
+                    args.size[0],
+                    args.size[1]
+                )
+                .into());
+            }
+            Some((path, reference))
+        }
+        None => None,
+    };
     let settings = RenderSettings {
         graph: args.graph,
         scene: args.scene,
@@ -348,7 +399,7 @@ fn render(args: RenderArgs) -> Result<(), String> {
             args.frames
         },
     };
-    let mut session = Session::new(&settings).map_err(|e| e.to_string())?;
+    let mut session = Session::for_render(&settings, &args.channel).map_err(|e| e.to_string())?;
     let segments = match &args.camera_path {
         Some(path) => Some(load_camera_path(path, session.scene_description().camera)?),
         None => None,
@@ -409,12 +460,19 @@ fn render(args: RenderArgs) -> Result<(), String> {
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let dropped = session.dropped().map_err(|e| e.to_string())?;
-    for path in &args.out {
-        image.write(path)?;
-    }
-    if let Some(path) = &args.reference {
-        let reference = RgbImage::read_exr(path)?;
-        let e = image_error(&image, &reference).map_err(|e| format!("{}: {e}", path.display()))?;
+    // All outputs as a set: each is encoded and written beside its target before any replaces
+    // an older file, so a failure leaves no new PNG beside an old EXR.
+    let encoded = args
+        .out
+        .iter()
+        .map(|path| Ok((path.as_path(), image.encode_for(path)?)))
+        .collect::<Result<Vec<_>, String>>()?;
+    let files: Vec<(&std::path::Path, &[u8])> =
+        encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    passgraph::atomic_write::write_atomic_set(&files)
+        .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))?;
+    if let Some((path, reference)) = &reference {
+        let e = image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
         println!(
             "error of {} against {}: RMSE {:.5}, relMSE {:.3e}, bias {:+.5}",
             args.channel,
@@ -441,6 +499,22 @@ fn render(args: RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// A positive frame count: zero frames would write a black image (or, for bench, render one).
+fn parse_frames(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) if n > 0 => Ok(n),
+        _ => Err(format!("'{s}' is not a positive number of frames")),
+    }
+}
+
+/// A finite, positive time budget: NaN or infinity would never be reached.
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("'{s}' is not a finite, positive number of seconds")),
+    }
+}
+
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -452,7 +526,20 @@ fn parse_size(s: &str) -> Result<[u32; 2], String> {
     Ok([dim(w)?, dim(h)?])
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+/// Why a command failed: invalid input (exit 1) or a command-line usage error (exit 2, like
+/// clap's own).
+enum Failure {
+    Invalid(String),
+    Usage(String),
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Failure {
+        Failure::Invalid(message)
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Failure> {
     let plan =
         |g: &GraphArgs| compile_file(&g.graph, g.size).map_err(|e: GraphError| e.to_string());
     match cli.command.unwrap_or(Command::Render(cli.render)) {
@@ -472,8 +559,12 @@ fn run(cli: Cli) -> Result<(), String> {
             script: a.script,
             frames: a.frames,
         })?,
-        Command::Check(g) => {
+        Command::Check { graph: g, generic } => {
             let p = plan(&g)?;
+            if !generic {
+                check_render_contract(&p, &ChannelSelection::Planes(vec![Channel::Sum]))
+                    .map_err(|e| e.to_string())?;
+            }
             println!(
                 "{}: ok ({} passes in {} stages, {} culled)",
                 g.graph.display(),
@@ -497,8 +588,9 @@ fn run(cli: Cli) -> Result<(), String> {
 
 /// Mesa's Vulkan drivers print "XDG_RUNTIME_DIR is invalid or not set" when probing window
 /// systems, which reads like an error of ours on a headless machine. Give them a private,
-/// valid directory when the session has none; returns it, to be removed at exit.
-fn quiet_mesa_without_a_session() -> Option<PathBuf> {
+/// valid directory when the session has none; the guard removes it when dropped (also when a
+/// panic unwinds), and a signal's cleanup removes it too.
+fn quiet_mesa_without_a_session() -> Option<RuntimeDir> {
     if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
         return None;
     }
@@ -513,23 +605,40 @@ fn quiet_mesa_without_a_session() -> Option<PathBuf> {
     if !made {
         return None;
     }
-    // SAFETY: called first thing in main, before any other thread exists.
+    passgraph::atomic_write::remove_on_signal(dir.clone());
+    // SAFETY: called in main before any other thread exists.
     unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
-    Some(dir)
+    Some(RuntimeDir(dir))
+}
+
+struct RuntimeDir(PathBuf);
+
+impl Drop for RuntimeDir {
+    fn drop(&mut self) {
+        // Best effort: nothing should have been written there.
+        let _ = std::fs::remove_dir_all(&self.0);
+        passgraph::atomic_write::forget(&self.0);
+    }
 }
 
 fn main() -> ExitCode {
+    // Parsing first: a usage error or --help exits here, before anything is created.
+    let cli = Cli::parse();
     let runtime_dir = quiet_mesa_without_a_session();
-    let code = match run(Cli::parse()) {
+    if let Err(e) = passgraph::atomic_write::install_signal_cleanup() {
+        eprintln!("warning: temporary files will not be removed on Ctrl-C: {e}");
+    }
+    let code = match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
+        Err(Failure::Usage(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Invalid(message)) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE
         }
     };
-    if let Some(dir) = runtime_dir {
-        // Best effort: nothing should have been written there.
-        let _ = std::fs::remove_dir_all(dir);
-    }
+    drop(runtime_dir);
     code
 }

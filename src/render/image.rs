@@ -54,9 +54,25 @@ impl RgbImage {
         sum.map(|s| s / n)
     }
 
+    /// Reads a linear reference: an OpenEXR file (checked by its content, not its name; a PNG
+    /// is sRGB-encoded and clamped, so comparing against it would measure the encoding).
     pub fn read_exr(path: &Path) -> Result<RgbImage, String> {
-        let img =
-            image::open(path).map_err(|e| format!("{}: cannot read image: {e}", path.display()))?;
+        let cannot =
+            |e: &dyn std::fmt::Display| format!("{}: cannot read image: {e}", path.display());
+        let reader = image::ImageReader::open(path)
+            .map_err(|e| cannot(&e))?
+            .with_guessed_format()
+            .map_err(|e| cannot(&e))?;
+        if reader.format() != Some(image::ImageFormat::OpenExr) {
+            return Err(format!(
+                "{}: not an OpenEXR image{}; a reference must hold linear values (.exr)",
+                path.display(),
+                reader
+                    .format()
+                    .map_or(String::new(), |f| format!(" (it is {f:?})"))
+            ));
+        }
+        let img = reader.decode().map_err(|e| cannot(&e))?;
         let rgb = img.to_rgb32f();
         Ok(RgbImage {
             width: rgb.width(),
@@ -67,21 +83,13 @@ impl RgbImage {
 
     /// Writes `.png` (sRGB-encoded, clamped to [0, 1]) or `.exr` (linear float32 RGB).
     pub fn write(&self, path: &Path) -> Result<(), String> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase());
-        let bytes = match ext.as_deref() {
-            Some("png") => self.encode(image::ImageFormat::Png)?,
-            Some("exr") => self.encode(image::ImageFormat::OpenExr)?,
-            _ => {
-                return Err(format!(
-                    "{}: unknown image type; use .png (sRGB) or .exr (linear float)",
-                    path.display()
-                ));
-            }
-        };
+        let bytes = self.encode_for(path)?;
         write_atomic(path, &bytes).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    }
+
+    /// The file's bytes for `path`'s type (see [`output_format`]).
+    pub fn encode_for(&self, path: &Path) -> Result<Vec<u8>, String> {
+        self.encode(output_format(path)?)
     }
 
     fn encode(&self, format: image::ImageFormat) -> Result<Vec<u8>, String> {
@@ -104,6 +112,30 @@ impl RgbImage {
         encoded.map_err(|e| e.to_string())?;
         Ok(out.into_inner())
     }
+}
+
+/// The image type an output path asks for by its extension: `.png` or `.exr`.
+pub fn output_format(path: &Path) -> Result<image::ImageFormat, String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("png") => Ok(image::ImageFormat::Png),
+        Some("exr") => Ok(image::ImageFormat::OpenExr),
+        _ => Err(format!(
+            "{}: unknown image type; use .png (sRGB) or .exr (linear float)",
+            path.display()
+        )),
+    }
+}
+
+/// Checks, before any rendering, that an image can be written at `path`: a known type, in an
+/// existing directory, not over a directory.
+pub fn check_output_path(path: &Path) -> Result<(), String> {
+    output_format(path)?;
+    crate::atomic_write::check_target(path)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
 /// The sRGB transfer function on a clamped linear value.

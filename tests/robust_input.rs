@@ -1,0 +1,407 @@
+//! Bad input found by hand (issue 11): each case once crashed, hung or gave a silently wrong
+//! result; now `check` (or the command, before any rendering) rejects it with a message naming
+//! the file and what is wrong, exit status 1 (2 for usage), and no panic.
+
+mod common;
+
+use common::{assert_mentions, copy_dir};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A private copy of the shipped graphs, passes, shaders and scenes that a test may edit.
+struct Project {
+    dir: tempfile::TempDir,
+}
+
+impl Project {
+    fn new() -> Project {
+        let dir = tempfile::tempdir().unwrap();
+        for sub in ["graphs", "passes", "shaders", "scenes"] {
+            copy_dir(&root().join(sub), &dir.path().join(sub));
+        }
+        Project { dir }
+    }
+
+    fn path(&self, rel: &str) -> PathBuf {
+        self.dir.path().join(rel)
+    }
+
+    fn arg(&self, rel: &str) -> String {
+        self.path(rel).to_str().unwrap().to_string()
+    }
+
+    /// Replaces the one occurrence of `from` in `rel`.
+    fn edit(&self, rel: &str, from: &str, to: &str) -> &Project {
+        let path = self.path(rel);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text.matches(from).count(), 1, "{rel}: {from:?}");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        self
+    }
+
+    fn write(&self, rel: &str, text: &str) -> &Project {
+        let path = self.path(rel);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+        self
+    }
+}
+
+fn passgraph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_passgraph"))
+        .args(args)
+        .output()
+        .expect("the passgraph binary runs")
+}
+
+/// Runs a command that must fail with `code`, a message on stderr mentioning `parts`, and no
+/// panic; returns stderr.
+fn fails(args: &[&str], code: i32, parts: &[&str]) -> String {
+    let out = passgraph(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert_mentions(&stderr, parts);
+    stderr
+}
+
+const GRAPH: &str = "graphs/pathtracer.ron";
+
+// 1. A result buffer smaller than five planes passed `check` and panicked in `render`.
+#[test]
+fn result_smaller_than_five_planes_is_rejected_by_check_and_render_without_panic() {
+    for size in ["PerPixel(64)", "Bytes(16)"] {
+        let p = Project::new();
+        p.edit(
+            GRAPH,
+            r#""result": Buffer(size: PerPixel(80)"#,
+            &format!(r#""result": Buffer(size: {size}"#),
+        );
+        let graph = p.arg(GRAPH);
+        fails(
+            &["check", &graph],
+            1,
+            &["pathtracer.ron", "'result'", "PerPixel(80)"],
+        );
+        let out = p.arg("x.png");
+        fails(
+            &[
+                "render", "--graph", &graph, "--frames", "1", "--size", "8x8", "--out", &out,
+            ],
+            1,
+            &["pathtracer.ron", "'result'"],
+        );
+        assert!(!p.path("x.png").exists());
+    }
+}
+
+// 4. What `render` reads back must exist: `dropped`, and each ray counter as an output.
+#[test]
+fn missing_dropped_buffer_or_unlisted_ray_counter_is_rejected_by_check() {
+    // A graph with a result but no dropped-sample counter (the seed fixture).
+    let seed = common::fixtures().join("graphs/seed.ron");
+    fails(
+        &["check", seed.to_str().unwrap()],
+        1,
+        &["seed.ron", "'dropped'", "not declared"],
+    );
+    // Declared and written, but not an output: its content is not kept for the read-back.
+    let p = Project::new();
+    p.edit(GRAPH, r#""result", "dropped", "#, r#""result", "#);
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron", "'dropped'", "outputs"],
+    );
+
+    let p = Project::new();
+    p.edit(GRAPH, r#", "rays_indirect"]"#, "]");
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron", "'rays_indirect'", "ray_count", "outputs"],
+    );
+}
+
+// 4. `rays` with fewer layers than intersect stores rendered a wrong image with exit 0.
+#[test]
+fn texture_with_fewer_layers_than_a_constant_layer_index_is_an_error() {
+    for layers in [1, 2] {
+        let p = Project::new();
+        p.edit(GRAPH, "layers: 3", &format!("layers: {layers}"));
+        fails(
+            &["check", "--generic", &p.arg(GRAPH)],
+            1,
+            &[
+                "pathtracer.ron",
+                "pass 'intersect'",
+                "'rays'",
+                "layer 2",
+                "layers: 3",
+            ],
+        );
+    }
+}
+
+// 4. `direct` at Scaled(0.5) lit a quarter of the image.
+#[test]
+fn per_pixel_pass_writing_a_texture_smaller_than_the_output_is_an_error() {
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#""direct": Texture(format: Rgba32Float),"#,
+        r#""direct": Texture(format: Rgba32Float, size: Scaled(0.5)),"#,
+    );
+    fails(
+        &["check", "--generic", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron", "pass 'direct'", "'direct'", "128x128"],
+    );
+}
+
+// 4. An empty graph or one without outputs passed `check`.
+#[test]
+fn graph_without_passes_or_outputs_is_an_error() {
+    let p = Project::new();
+    p.write("graphs/empty.ron", "Graph(passes: [], outputs: [])");
+    fails(
+        &["check", "--generic", &p.arg("graphs/empty.ron")],
+        1,
+        &["empty.ron", "no passes"],
+    );
+    p.edit(
+        GRAPH,
+        r#"outputs: ["result", "dropped", "rays_intersect", "rays_ambient", "rays_direct", "rays_indirect"],"#,
+        "outputs: [],",
+    );
+    fails(
+        &["check", "--generic", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron", "no outputs"],
+    );
+}
+
+#[test]
+fn every_shipped_graph_meets_the_render_contract() {
+    for entry in std::fs::read_dir(root().join("graphs")).unwrap() {
+        let path = entry.unwrap().path();
+        let out = passgraph(&["check", path.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+// 3. `bench --seconds NaN` (or inf) ran forever.
+#[test]
+fn bench_time_budget_that_is_not_finite_and_positive_is_a_usage_error() {
+    for seconds in ["NaN", "inf", "-inf", "0", "-1"] {
+        fails(
+            &[
+                "bench",
+                "--reference",
+                "r.exr",
+                &format!("--seconds={seconds}"),
+            ],
+            2,
+            &["--seconds"],
+        );
+    }
+}
+
+// 8. `--frames 0` wrote a black image; `bench --frames 0` rendered one frame.
+#[test]
+fn zero_frames_is_a_usage_error_for_render_and_bench() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    fails(
+        &["render", "--frames", "0", "--out", out.to_str().unwrap()],
+        2,
+        &["--frames"],
+    );
+    fails(
+        &["bench", "--reference", "r.exr", "--frames", "0"],
+        2,
+        &["--frames"],
+    );
+    assert!(!out.exists());
+}
+
+/// A render that must be refused before any frame: it asks for a million frames, which would
+/// take hours, so a passing test shows the check came first; and nothing is written.
+fn refused_before_rendering(extra: &[&str], code: i32, parts: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    let mut args = vec![
+        "render",
+        "--frames",
+        "1000000",
+        "--size",
+        "16x16",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    fails(&args, code, parts);
+    assert!(!out.exists());
+}
+
+// 8. `--out`, `--channel` and `--reference` were checked after all frames were rendered.
+#[test]
+fn bad_out_channel_or_reference_is_refused_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |rel: &str| dir.path().join(rel).to_str().unwrap().to_string();
+    refused_before_rendering(&["--out", &d("x.bmp")], 2, &["x.bmp", ".png"]);
+    refused_before_rendering(&["--out", &d("no/such/dir/x.png")], 2, &["no/such/dir"]);
+    std::fs::create_dir(dir.path().join("a.png")).unwrap();
+    refused_before_rendering(&["--out", &d("a.png")], 2, &["a.png", "directory"]);
+    refused_before_rendering(&["--channel", "denoised"], 1, &["'denoised'"]);
+
+    // A reference of another size, and a PNG (sRGB, clamped) given as the linear reference.
+    let image = passgraph::render::image::RgbImage {
+        width: 8,
+        height: 8,
+        pixels: vec![[0.5; 3]; 64],
+    };
+    image.write(&dir.path().join("small.exr")).unwrap();
+    refused_before_rendering(
+        &["--reference", &d("small.exr")],
+        1,
+        &["small.exr", "8x8", "16x16"],
+    );
+    let image = passgraph::render::image::RgbImage {
+        width: 16,
+        height: 16,
+        pixels: vec![[0.5; 3]; 256],
+    };
+    image.write(&dir.path().join("ref.png")).unwrap();
+    std::fs::copy(dir.path().join("ref.png"), dir.path().join("ref.exr")).unwrap();
+    refused_before_rendering(&["--reference", &d("ref.png")], 1, &["ref.png", "OpenEXR"]);
+    // Judged by content, not by name.
+    refused_before_rendering(&["--reference", &d("ref.exr")], 1, &["ref.exr", "OpenEXR"]);
+}
+
+// 8. `--error-csv` without `--camera-path` was ignored.
+#[test]
+fn error_csv_without_camera_path_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("e.csv");
+    refused_before_rendering(
+        &["--error-csv", csv.to_str().unwrap()],
+        2,
+        &["--camera-path"],
+    );
+    assert!(!csv.exists());
+}
+
+// 8. The same graph twice in `bench` overwrote its own CSV.
+#[test]
+fn bench_with_the_same_graph_twice_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = root().join(GRAPH);
+    let graph = graph.to_str().unwrap();
+    let out = dir.path().join("bench");
+    fails(
+        &[
+            "bench",
+            "--reference",
+            "r.exr",
+            "--graph",
+            graph,
+            "--graph",
+            graph,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        2,
+        &["pathtracer", "once"],
+    );
+    assert!(!out.exists());
+}
+
+/// `passgraph-runtime-*` folders in `dir`.
+fn runtime_dirs(dir: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("passgraph-runtime-"))
+        })
+        .collect()
+}
+
+fn without_session(tmp: &Path, args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_passgraph"));
+    c.args(args)
+        .env("TMPDIR", tmp)
+        .env_remove("XDG_RUNTIME_DIR");
+    c
+}
+
+// 7. The private runtime folder was left in the temp folder on exit.
+#[test]
+fn runtime_folder_is_removed_on_success_error_and_usage_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let graph = root().join(GRAPH);
+    for args in [
+        vec!["check", graph.to_str().unwrap()],
+        vec!["check", "no-such-graph.ron"],
+        vec!["render", "--no-such-flag"],
+        vec!["--help"],
+    ] {
+        let out = without_session(tmp.path(), &args).output().unwrap();
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+        assert_eq!(runtime_dirs(tmp.path()), Vec::<PathBuf>::new(), "{args:?}");
+    }
+}
+
+// 7. SIGINT/SIGTERM left temporary files and the runtime folder behind.
+#[cfg(unix)]
+#[test]
+fn sigterm_during_a_render_removes_the_runtime_folder_and_writes_nothing() {
+    use std::io::BufRead;
+    use std::os::unix::process::ExitStatusExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let out_dir = tempfile::tempdir().unwrap();
+    let out = out_dir.path().join("x.png");
+    let mut child = without_session(
+        tmp.path(),
+        &[
+            "render",
+            "--frames",
+            "1000000",
+            "--size",
+            "16x16",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    )
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .unwrap();
+    // The render has started (and the runtime folder exists) once it names its adapter.
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while !line.contains("adapter:") {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "no adapter line");
+    }
+    assert_eq!(runtime_dirs(tmp.path()).len(), 1);
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(15), "{status:?}");
+    assert_eq!(runtime_dirs(tmp.path()), Vec::<PathBuf>::new());
+    assert_eq!(std::fs::read_dir(out_dir.path()).unwrap().count(), 0);
+}
