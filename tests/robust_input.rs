@@ -405,3 +405,136 @@ fn sigterm_during_a_render_removes_the_runtime_folder_and_writes_nothing() {
     assert_eq!(runtime_dirs(tmp.path()), Vec::<PathBuf>::new());
     assert_eq!(std::fs::read_dir(out_dir.path()).unwrap().count(), 0);
 }
+
+/// Adds `fn big_expr` with `body` to the shipped ambient shader (through an include).
+fn with_big_function(p: &Project, body: &str) {
+    p.write(
+        "shaders/lib/big.wgsl",
+        &format!("fn big_expr() -> f32 {{\n    {body}\n}}\n"),
+    );
+    let ambient = std::fs::read_to_string(p.path("shaders/ambient.wgsl")).unwrap();
+    p.write(
+        "shaders/ambient.wgsl",
+        &format!("#include \"lib/big.wgsl\"\n{ambient}"),
+    );
+}
+
+// 2. A WGSL expression of 20,000 terms overflowed the stack (SIGABRT) in `check`.
+#[test]
+fn wgsl_expression_of_20000_terms_or_nesting_is_an_error_not_a_stack_overflow() {
+    let terms = vec!["1.0"; 20_000].join(" + ");
+    let p = Project::new();
+    with_big_function(&p, &format!("return {terms};"));
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["lib/big.wgsl:2:5", "operators"],
+    );
+    let p = Project::new();
+    let nested = format!("return {}1.0{};", "(".repeat(20_000), ")".repeat(20_000));
+    with_big_function(&p, &nested);
+    fails(&["check", &p.arg(GRAPH)], 1, &["lib/big.wgsl:2:", "nested"]);
+}
+
+#[test]
+fn long_expression_within_the_bound_is_parsed_on_a_large_stack() {
+    // 16,000 terms overflow the 8 MiB of a main thread in naga's recursion.
+    let p = Project::new();
+    with_big_function(&p, &format!("return {};", vec!["1.0"; 16_000].join(" + ")));
+    let out = passgraph(&["check", &p.arg(GRAPH)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+// 2. 20,000 nested includes overflowed the stack in the include step.
+#[test]
+fn chain_of_20000_nested_includes_is_an_error_not_a_stack_overflow() {
+    let p = Project::new();
+    for i in 0..20_000 {
+        p.write(
+            &format!("shaders/chain/{i}.wgsl"),
+            &format!("#include \"{}.wgsl\"\n", i + 1),
+        );
+    }
+    p.write("shaders/chain/20000.wgsl", "fn chain_end() {}\n");
+    let ambient = std::fs::read_to_string(p.path("shaders/ambient.wgsl")).unwrap();
+    p.write(
+        "shaders/ambient.wgsl",
+        &format!("#include \"chain/0.wgsl\"\n{ambient}"),
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["chain/63.wgsl:1", "nested more than 64 deep"],
+    );
+}
+
+// 6. A key given twice in a RON map silently kept the last value.
+#[test]
+fn duplicate_key_in_resources_bind_or_params_is_an_error_naming_key_and_line() {
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#""l0": Texture(format: Rgba32Float),"#,
+        "\"l0\": Texture(format: Rgba32Float),\n        \"l0\": Texture(format: Rgba16Float),",
+    );
+    let line = std::fs::read_to_string(p.path(GRAPH))
+        .unwrap()
+        .lines()
+        .position(|l| l.contains("Rgba16Float"))
+        .unwrap()
+        + 1;
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &[&format!("pathtracer.ron:{line}:"), "duplicate key \"l0\""],
+    );
+
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#""rays": "rays", "seeds": "seeds", "ray_count": "rays_intersect","#,
+        r#""rays": "rays", "seeds": "seeds", "rays": "l0", "ray_count": "rays_intersect","#,
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron:", "duplicate key \"rays\""],
+    );
+
+    let p = Project::new();
+    let pass = std::fs::read_to_string(p.path("passes/intersect.ron")).unwrap();
+    let param = pass
+        .split("params: {")
+        .nth(1)
+        .and_then(|rest| rest.split('}').next())
+        .expect("intersect.ron declares params")
+        .trim()
+        .trim_end_matches(',');
+    p.write(
+        "passes/intersect.ron",
+        &pass.replacen(param, &format!("{param}, {param}"), 1),
+    );
+    let key = param.split('"').nth(1).unwrap();
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["intersect.ron:", &format!("duplicate key \"{key}\"")],
+    );
+}
+
+// 9. The Rust type name `PassInstanceDecl` leaked into RON errors.
+#[test]
+fn ron_errors_name_the_schema_not_rust_types() {
+    let p = Project::new();
+    p.edit(GRAPH, r#"(name: "intersect", pass: "intersect","#, r#"(pass: "intersect","#);
+    let stderr = fails(&["check", &p.arg(GRAPH)], 1, &["pathtracer.ron:", "name"]);
+    assert!(!stderr.contains("Decl"), "{stderr}");
+    let p = Project::new();
+    p.edit(GRAPH, r#""l0": Texture("#, r#""l0": Textur("#);
+    let stderr = fails(&["check", &p.arg(GRAPH)], 1, &["pathtracer.ron:", "Textur"]);
+    assert!(!stderr.contains("Decl"), "{stderr}");
+}

@@ -72,6 +72,121 @@ fn capabilities() -> Capabilities {
 /// Parses and validates the joined source, finds the compute entry point `entry`, and returns
 /// its interface.
 pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, GraphError> {
+    check_expression_size(source)?;
+    // naga's parser, lowering and validator recurse once per operand of a left-nested
+    // expression chain; the stack they need grows with it, and a main thread's 8 MiB overflow
+    // (an abort, not an error) near 10,000 operands. The check above bounds the chains, and a
+    // thread with a large stack (memory is committed only as it is touched) gives them room.
+    let reflected = std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .name("naga".into())
+            .stack_size(NAGA_STACK_BYTES)
+            .spawn_scoped(scope, || reflect_module(source, entry))
+            .map(|thread| thread.join())
+    });
+    match reflected {
+        Ok(Ok(result)) => result,
+        // A panic inside naga: report it as the shader's error rather than abort the check.
+        Ok(Err(_)) => Err(GraphError::Wgsl {
+            file: source.path.clone(),
+            line: 1,
+            col: 1,
+            message: "the WGSL front end failed on this shader (internal error)".into(),
+        }),
+        // No thread could be started: parse here.
+        Err(_) => reflect_module(source, entry),
+    }
+}
+
+/// The stack of the thread naga runs on.
+const NAGA_STACK_BYTES: usize = 256 << 20;
+
+/// The most operators one statement may chain (`a + b + ...`): far more than hand-written
+/// code has, and far within what naga parses on `NAGA_STACK_BYTES` (100,000 took 3 s).
+pub const MAX_OPERATORS_PER_STATEMENT: usize = 16_384;
+
+/// The deepest nesting of `(`, `[` and `{` together. naga stops at about 200 levels with an
+/// internal error that has no position; this bound comes first and says where.
+pub const MAX_NESTING: usize = 64;
+
+/// Rejects a statement with more than [`MAX_OPERATORS_PER_STATEMENT`] binary operators, or
+/// brackets nested deeper than [`MAX_NESTING`], with the file and line. Counts operator
+/// characters between `;`, `{` and `}`, outside comments: an over-estimate (`<=` counts
+/// twice), which is fine for a bound this loose.
+fn check_expression_size(source: &ShaderSource) -> Result<(), GraphError> {
+    let code = source.code.as_bytes();
+    let mut start = 0;
+    let mut operators = 0;
+    let mut depth = 0usize;
+    let mut i = 0;
+    let error = |at: usize, message: String| {
+        let (file, line, col) = source.locate(at);
+        GraphError::Wgsl {
+            file,
+            line,
+            col,
+            message,
+        }
+    };
+    while i < code.len() {
+        match code[i] {
+            b'/' if code.get(i + 1) == Some(&b'/') => {
+                while i < code.len() && code[i] != b'\n' {
+                    i += 1;
+                }
+                continue;
+            }
+            b'/' if code.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i < code.len() && !(code[i] == b'*' && code.get(i + 1) == Some(&b'/')) {
+                    i += 1;
+                }
+                i += 2;
+                continue;
+            }
+            b';' | b'{' | b'}' => {
+                start = i + 1;
+                operators = 0;
+            }
+            _ => {}
+        }
+        match code[i] {
+            b'(' | b'[' | b'{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(error(
+                        i,
+                        format!(
+                            "brackets and blocks nested more than {MAX_NESTING} deep; use intermediate `let`s or functions"
+                        ),
+                    ));
+                }
+            }
+            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            b'+' | b'-' | b'*' | b'/' | b'%' | b'&' | b'|' | b'^' | b'<' | b'>' | b'=' | b'!' => {
+                operators += 1;
+                if operators > MAX_OPERATORS_PER_STATEMENT {
+                    let at = start
+                        + (code[start..]
+                            .iter()
+                            .take_while(|c| c.is_ascii_whitespace())
+                            .count());
+                    return Err(error(
+                        at,
+                        format!(
+                            "this statement chains more than {MAX_OPERATORS_PER_STATEMENT} operators; split it into several statements"
+                        ),
+                    ));
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+fn reflect_module(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, GraphError> {
     let module =
         naga::front::wgsl::parse_str(&source.code).map_err(|error| parse_error(source, &error))?;
     let info = Validator::new(ValidationFlags::all(), capabilities())

@@ -49,6 +49,7 @@ impl ShaderSource {
             files: Vec::new(),
             segments: Vec::new(),
             included: HashSet::new(),
+            depth: 0,
         };
         // The main file counts as included, so a library including it back is a skipped cycle.
         if let Ok(canonical) = path.canonicalize() {
@@ -122,7 +123,12 @@ struct Builder<'a> {
     segments: Vec<Segment>,
     /// Canonical paths of the files already in `code`.
     included: HashSet<PathBuf>,
+    /// How many includes deep `append_file` is: each level recurses, so it is bounded.
+    depth: usize,
 }
+
+/// The deepest chain of nested includes: far beyond any real library, far below a stack overflow.
+pub const MAX_INCLUDE_DEPTH: usize = 64;
 
 impl Builder<'_> {
     /// Appends `text` (the content of `path`), expanding its includes.
@@ -187,9 +193,17 @@ impl Builder<'_> {
         if !self.included.insert(canonical) {
             return Ok(());
         }
+        if self.depth >= MAX_INCLUDE_DEPTH {
+            return Err(error(format!(
+                "includes are nested more than {MAX_INCLUDE_DEPTH} deep; a chain this long is a mistake (or a generated file): join the files"
+            )));
+        }
         let text = std::fs::read_to_string(found)
             .map_err(|e| error(format!("cannot read {}: {e}", found.display())))?;
-        self.append_file(normalize(found), &text)?;
+        self.depth += 1;
+        let appended = self.append_file(normalize(found), &text);
+        self.depth -= 1;
+        appended?;
         // The including file's next line must start on a line of its own.
         if !self.code.is_empty() && !self.code.ends_with('\n') {
             self.code.push('\n');
