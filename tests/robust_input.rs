@@ -530,7 +530,11 @@ fn duplicate_key_in_resources_bind_or_params_is_an_error_naming_key_and_line() {
 #[test]
 fn ron_errors_name_the_schema_not_rust_types() {
     let p = Project::new();
-    p.edit(GRAPH, r#"(name: "intersect", pass: "intersect","#, r#"(pass: "intersect","#);
+    p.edit(
+        GRAPH,
+        r#"(name: "intersect", pass: "intersect","#,
+        r#"(pass: "intersect","#,
+    );
     let stderr = fails(&["check", &p.arg(GRAPH)], 1, &["pathtracer.ron:", "name"]);
     assert!(!stderr.contains("Decl"), "{stderr}");
     let p = Project::new();

@@ -2,8 +2,11 @@
 
 use super::format::TextureFormat;
 use super::param::ParamValue;
-use serde::Deserialize;
+use serde::de::{self, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer};
 use std::collections::BTreeMap;
+use std::fmt;
+use std::marker::PhantomData;
 
 /// `passes/<name>.ron`: a shader entry point, how to dispatch it, and its params with defaults.
 #[derive(Clone, Debug, Deserialize)]
@@ -15,7 +18,7 @@ pub struct PassDecl {
     pub entry: String,
     #[serde(default)]
     pub dispatch: Dispatch,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamValue>,
 }
 
@@ -37,7 +40,7 @@ pub enum Dispatch {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(rename = "Graph", deny_unknown_fields)]
 pub struct GraphDecl {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub resources: BTreeMap<String, ResourceDecl>,
     pub passes: Vec<PassInstanceDecl>,
     pub outputs: Vec<String>,
@@ -45,7 +48,7 @@ pub struct GraphDecl {
 
 /// A resource the graph owns. Persistent resources keep their content across frames.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(rename = "Resource", deny_unknown_fields)]
 pub enum ResourceDecl {
     Texture {
         format: TextureFormat,
@@ -95,17 +98,48 @@ pub enum BufferSize {
 }
 
 /// One use of a pass in a graph.
+// Messages name the type as users know it, not the Rust type.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(rename = "PassInstance", deny_unknown_fields)]
 pub struct PassInstanceDecl {
     /// Unique within the graph; several instances may share one `pass`.
     pub name: String,
     /// The pass file: `passes/<pass>.ron`.
     pub pass: String,
     /// Shader binding name -> resource name.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub bind: BTreeMap<String, String>,
     /// Overrides of the pass's param defaults.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamValue>,
+}
+
+/// A map whose every key appears once: serde's own maps keep the last of two equal keys
+/// silently, which hides a typo'd copy-paste. The error is positioned at the repeated key.
+fn unique_keys<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct Unique<V>(PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> Visitor<'de> for Unique<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("a map of names")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(key) = map.next_key::<String>()? {
+                if out.contains_key(&key) {
+                    return Err(de::Error::custom(format!(
+                        "duplicate key \"{key}\": each key may appear once in a map"
+                    )));
+                }
+                let value = map.next_value()?;
+                out.insert(key, value);
+            }
+            Ok(out)
+        }
+    }
+    deserializer.deserialize_map(Unique(PhantomData))
 }

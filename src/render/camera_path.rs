@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 struct CameraPathFile(Vec<SegmentDecl>);
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(rename = "Segment", deny_unknown_fields)]
 struct SegmentDecl {
     frames: u32,
     #[serde(default)]
