@@ -2,9 +2,11 @@
 //! every contender alike, combined into one curve per variant: the **median** per checkpoint.
 //!
 //! With the same seed a round renders the same images, so a checkpoint's error is the same in
-//! every round and only its time varies with the load. A checkpoint (frame count, or Mitsuba's
-//! sample count) is kept when more than half the rounds reached it: a time budget can end a
-//! slow round one doubling earlier, and the rounds that reached it anyway are the faster ones.
+//! every round and only its time varies with the load. Every checkpoint (frame count, or
+//! Mitsuba's sample count) any round reached is kept. A time budget ends a slower round one
+//! doubling earlier; leaving it out of the last checkpoint would keep only the faster rounds
+//! there, so it counts with its time extrapolated in proportion to the count from its own last
+//! checkpoint (time per frame is steady within a run).
 
 use super::metrics::ImageError;
 use super::run::{Checkpoint, Run};
@@ -40,17 +42,27 @@ pub fn read_runs(dir: &Path) -> Result<Vec<Run>, String> {
     ron::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Keys kept: those present in more than half of `rounds` rounds, in increasing order.
-pub fn majority_keys(keys: impl Iterator<Item = u64>, rounds: usize) -> Vec<u64> {
-    let mut counts = std::collections::BTreeMap::new();
-    for k in keys {
-        *counts.entry(k).or_insert(0usize) += 1;
-    }
-    counts
-        .into_iter()
-        .filter(|&(_, n)| 2 * n > rounds)
-        .map(|(k, _)| k)
-        .collect()
+/// The median time at checkpoint `key` over rounds given as (count, seconds) in increasing
+/// count; a round that stopped before `key` counts with its last time scaled by
+/// `key / its last count`, a round that started after it does not count.
+pub fn median_seconds(rounds: &[Vec<(u64, f64)>], key: u64) -> f64 {
+    let times = rounds.iter().filter_map(|points| {
+        let &(last_key, last_seconds) = points.last()?;
+        match points.iter().find(|(k, _)| *k == key) {
+            Some(&(_, seconds)) => Some(seconds),
+            None if key > last_key && last_key > 0 => {
+                Some(last_seconds * key as f64 / last_key as f64)
+            }
+            None => None,
+        }
+    });
+    median(times.collect()).unwrap_or(f64::NAN)
+}
+
+/// Every key of every round, in increasing order.
+pub fn all_keys(rounds: &[Vec<(u64, f64)>]) -> Vec<u64> {
+    let keys: std::collections::BTreeSet<u64> = rounds.iter().flatten().map(|(k, _)| *k).collect();
+    keys.into_iter().collect()
 }
 
 /// One run per label (in the order of first appearance) from the runs of every round.
@@ -75,12 +87,16 @@ pub fn combine(rounds: &[Vec<Run>]) -> Vec<Run> {
 }
 
 fn combine_runs(runs: &[&Run]) -> Run {
-    let frames = majority_keys(
-        runs.iter()
-            .flat_map(|r| r.checkpoints.iter().map(|c| u64::from(c.frames))),
-        runs.len(),
-    );
-    let checkpoints = frames
+    let times: Vec<Vec<(u64, f64)>> = runs
+        .iter()
+        .map(|r| {
+            r.checkpoints
+                .iter()
+                .map(|c| (u64::from(c.frames), c.seconds))
+                .collect()
+        })
+        .collect();
+    let checkpoints = all_keys(&times)
         .into_iter()
         .map(|f| {
             let at: Vec<&Checkpoint> = runs
@@ -97,7 +113,7 @@ fn combine_runs(runs: &[&Run]) -> Run {
                 .unwrap_or(0);
             Checkpoint {
                 frames: f as u32,
-                seconds: m(&|c| c.seconds),
+                seconds: median_seconds(&times, f),
                 error: ImageError {
                     rmse: m(&|c| c.error.rmse),
                     relmse: m(&|c| c.error.relmse),
@@ -162,7 +178,7 @@ mod tests {
     }
 
     #[test]
-    fn checkpoints_take_the_median_time_of_the_rounds_that_reached_them() {
+    fn checkpoints_take_the_median_time_of_every_round() {
         let rounds = vec![
             vec![
                 run("a", &[(1, 1.0), (2, 2.0), (4, 4.0)]),
@@ -180,8 +196,9 @@ mod tests {
             .iter()
             .map(|c| (c.frames, c.seconds))
             .collect();
-        // 4 frames: 2 of 3 rounds (kept, median of 4 and 8); 8 frames: 1 of 3 (dropped).
-        assert_eq!(points, [(1, 2.0), (2, 4.0), (4, 6.0)]);
+        // The second round stopped at 2 frames (6 s): at 4 frames it counts as 12 s, at 8 as 24;
+        // the first round counts as 8 s at 8 frames.
+        assert_eq!(points, [(1, 2.0), (2, 4.0), (4, 8.0), (8, 16.0)]);
         assert_eq!(a.checkpoints[2].error.relmse, 0.25);
         assert_eq!(a.checkpoints[0].pass_ms, Some(vec![2000.0]));
         assert_eq!(combined[1].checkpoints.len(), 1, "b ran once");

@@ -1,7 +1,7 @@
 //! Error-against-time curves, from passgraph runs or from Mitsuba's CSV, and reading them at
 //! equal time or equal error.
 
-use super::rounds::{majority_keys, median};
+use super::rounds::{all_keys, median, median_seconds};
 use super::run::Run;
 use std::path::Path;
 
@@ -41,15 +41,18 @@ impl Series {
     }
 
     /// One curve from several rounds of `scripts/mitsuba-reference` (one CSV each): per sample
-    /// count, the median of the rounds that rendered it, kept if more than half did (see
-    /// `rounds`).
+    /// count, the median time over the rounds (see `rounds`: a round that stopped at a lower
+    /// count counts with its time extrapolated) and the median error over those that rendered it.
     pub fn from_mitsuba_csvs(paths: &[&Path], label: &str) -> Result<Series, String> {
         let rounds: Vec<Vec<(u64, Point)>> = paths
             .iter()
             .map(|p| read_mitsuba_csv(p))
             .collect::<Result<_, _>>()?;
-        let keys = majority_keys(rounds.iter().flatten().map(|(k, _)| *k), rounds.len());
-        let mut points: Vec<Point> = keys
+        let times: Vec<Vec<(u64, f64)>> = rounds
+            .iter()
+            .map(|r| r.iter().map(|(k, p)| (*k, p.seconds)).collect())
+            .collect();
+        let mut points: Vec<Point> = all_keys(&times)
             .into_iter()
             .map(|k| {
                 let at: Vec<&Point> = rounds
@@ -62,7 +65,7 @@ impl Series {
                     median(at.iter().map(|p| get(p)).collect()).unwrap_or(f64::NAN)
                 };
                 Point {
-                    seconds: m(|p| p.seconds),
+                    seconds: median_seconds(&times, k),
                     rmse: m(|p| p.rmse),
                     relmse: m(|p| p.relmse),
                 }
@@ -138,6 +141,7 @@ fn read_mitsuba_csv(path: &Path) -> Result<Vec<(u64, Point)>, String> {
             },
         ));
     }
+    rows.sort_by_key(|(key, _)| *key);
     Ok(rows)
 }
 
@@ -219,6 +223,7 @@ mod tests {
         );
         let s = Series::from_mitsuba_csvs(&[&a, &b, &c], "m").unwrap();
         let points: Vec<(f64, f64)> = s.points.iter().map(|p| (p.seconds, p.relmse)).collect();
-        assert_eq!(points, [(0.2, 0.08), (0.5, 0.02)]);
+        // b stopped at 1 spp (0.3 s): at 4 spp it counts as 1.2 s.
+        assert_eq!(points, [(0.2, 0.08), (0.6, 0.02)]);
     }
 }
