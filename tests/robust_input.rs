@@ -542,3 +542,117 @@ fn ron_errors_name_the_schema_not_rust_types() {
     let stderr = fails(&["check", &p.arg(GRAPH)], 1, &["pathtracer.ron:", "Textur"]);
     assert!(!stderr.contains("Decl"), "{stderr}");
 }
+
+// 5. Sizes overflowed silently: PerPixel(4611686018427387905) became 1024 bytes, and `plan`
+// printed wrapped sizes.
+#[test]
+fn sizes_past_2_to_the_64_bytes_are_errors_not_wrapped() {
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#""result": Buffer(size: PerPixel(80)"#,
+        r#""result": Buffer(size: PerPixel(4611686018427387905)"#,
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &[
+            "pathtracer.ron",
+            "'result'",
+            "PerPixel(4611686018427387905)",
+            "2^64",
+        ],
+    );
+    let graph = root().join(GRAPH);
+    fails(
+        &[
+            "plan",
+            graph.to_str().unwrap(),
+            "--size",
+            "4294967295x4294967295",
+        ],
+        1,
+        &["pathtracer.ron", "4294967295x4294967295", "2^64", "--size"],
+    );
+}
+
+/// A render of the copy `p` that must stop before the first frame with `parts` in its message
+/// (and not wgpu's raw "Validation Error").
+fn over_limit(p: &Project, size: &str, parts: &[&str]) {
+    let out = p.arg("x.png");
+    let stderr = fails(
+        &[
+            "render",
+            "--graph",
+            &p.arg(GRAPH),
+            "--frames",
+            "1",
+            "--size",
+            size,
+            "--out",
+            &out,
+        ],
+        1,
+        parts,
+    );
+    assert!(!stderr.contains("Validation Error"), "{stderr}");
+    assert!(!p.path("x.png").exists());
+}
+
+// 5. Device limits ended in wgpu's raw validation text.
+#[test]
+fn device_limits_are_checked_before_creating_anything_naming_resource_limit_and_fix() {
+    let p = Project::new();
+    over_limit(
+        &p,
+        "8192x8192",
+        &["pathtracer.ron", "resource '", "max_buffer_size", "--size"],
+    );
+    let p = Project::new();
+    p.edit(GRAPH, "layers: 3", "layers: 100000");
+    over_limit(
+        &p,
+        "8x8",
+        &["resource 'rays'", "max_texture_array_layers", "layers"],
+    );
+    let p = Project::new();
+    p.edit(
+        "shaders/accumulate.wgsl",
+        "@workgroup_size(8, 8)",
+        "@workgroup_size(1024, 1024)",
+    );
+    over_limit(
+        &p,
+        "8x8",
+        &[
+            "pass 'accumulate'",
+            "accumulate.wgsl",
+            "max_compute_invocations_per_workgroup",
+        ],
+    );
+}
+
+// 5. `enable f16;` on a device without 16-bit floats ended in wgpu's raw validation text.
+#[test]
+fn enable_f16_renders_or_names_the_missing_feature() {
+    let p = Project::new();
+    let shader = std::fs::read_to_string(p.path("shaders/accumulate.wgsl")).unwrap();
+    p.write("shaders/accumulate.wgsl", &format!("enable f16;\n{shader}"));
+    let out = passgraph(&[
+        "render",
+        "--graph",
+        &p.arg(GRAPH),
+        "--frames",
+        "1",
+        "--size",
+        "8x8",
+        "--out",
+        &p.arg("x.png"),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() {
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert_mentions(&stderr, &["pass 'accumulate'", "enable f16", "SHADER_F16"]);
+        assert!(!stderr.contains("Validation Error"), "{stderr}");
+    }
+}

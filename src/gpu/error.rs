@@ -9,6 +9,14 @@ pub const NO_ADAPTER_HINT: &str = "no GPU adapter found; on Debian/Ubuntu instal
 
 #[derive(Debug, Error)]
 pub enum GpuError {
+    #[error("{}: {what}: {reason}", graph.display())]
+    OverLimit {
+        graph: std::path::PathBuf,
+        /// The resource or pass at fault.
+        what: String,
+        reason: String,
+    },
+
     #[error("{NO_ADAPTER_HINT}")]
     NoAdapter,
 

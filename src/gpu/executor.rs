@@ -31,6 +31,7 @@ impl Executor {
         plan: &Plan,
         provided: &ProvidedData,
     ) -> Result<Executor, GpuError> {
+        super::limits::check_limits(plan, &ctx.device().limits(), ctx.device().features())?;
         let resources = GpuResources::new(ctx, plan, provided)?;
         let passes = plan
             .passes

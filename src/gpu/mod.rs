@@ -6,6 +6,7 @@ mod convert;
 pub mod error;
 mod error_scope;
 pub mod executor;
+pub mod limits;
 mod pass;
 pub mod provided_data;
 pub mod readback;

@@ -154,6 +154,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
                 entry: pass.decl.entry.clone(),
                 stage: levels[k],
                 workgroups: b.workgroups,
+                workgroup_size: pass.interface.workgroup_size,
                 bindings: b.bindings.clone(),
                 params: b.params.clone(),
                 params_uniform: b.params_uniform.clone(),
@@ -254,6 +255,18 @@ fn resolve_resources(
                         return Err(invalid(name, format!("Absolute({w}, {h}) has a zero side")));
                     }
                 };
+                let bytes = u64::from(w)
+                    .checked_mul(u64::from(h))
+                    .and_then(|t| t.checked_mul(u64::from(layers)))
+                    .and_then(|t| t.checked_mul(format.bytes_per_texel()));
+                if bytes.is_none() {
+                    return Err(invalid(
+                        name,
+                        format!(
+                            "{w}x{h} texels x {layers} layers of {format} is more than 2^64 bytes; use a smaller --size or fewer layers"
+                        ),
+                    ));
+                }
                 ResourceKind::Texture {
                     format,
                     width: w,
@@ -264,7 +277,17 @@ fn resolve_resources(
             ResourceDecl::Buffer { size, .. } => {
                 let bytes = match size {
                     BufferSize::Bytes(b) => b,
-                    BufferSize::PerPixel(b) => b * u64::from(width) * u64::from(height),
+                    BufferSize::PerPixel(b) => b
+                        .checked_mul(u64::from(width))
+                        .and_then(|t| t.checked_mul(u64::from(height)))
+                        .ok_or_else(|| {
+                            invalid(
+                                name,
+                                format!(
+                                    "PerPixel({b}) at {width}x{height} is more than 2^64 bytes; use a smaller --size or fewer bytes per pixel"
+                                ),
+                            )
+                        })?,
                 };
                 if bytes == 0 || bytes % 4 != 0 {
                     return Err(invalid(

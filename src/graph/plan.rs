@@ -37,7 +37,11 @@ impl ResourceKind {
                 height,
                 layers,
             } => {
-                u64::from(width) * u64::from(height) * u64::from(layers) * format.bytes_per_texel()
+                // Saturating: compile rejects sizes past 2^64, so this never saturates there.
+                u64::from(width)
+                    .saturating_mul(u64::from(height))
+                    .saturating_mul(u64::from(layers))
+                    .saturating_mul(format.bytes_per_texel())
             }
             ResourceKind::Buffer { size } => size,
             ResourceKind::Provided(_) => 0,
@@ -93,6 +97,8 @@ pub struct PlannedPass {
     pub entry: String,
     pub stage: usize,
     pub workgroups: [u32; 3],
+    /// The entry point's `@workgroup_size`.
+    pub workgroup_size: [u32; 3],
     pub bindings: Vec<PlannedBinding>,
     /// Every param with its final value (defaults overridden by the graph).
     pub params: BTreeMap<String, ParamValue>,
@@ -159,11 +165,14 @@ impl Plan {
             .iter()
             .filter(|r| r.physical.is_some())
             .map(|r| r.kind.bytes())
-            .sum()
+            .fold(0, u64::saturating_add)
     }
 
     /// Bytes actually allocated after transient reuse.
     pub fn bytes_allocated(&self) -> u64 {
-        self.physical.iter().map(|p| p.kind.bytes()).sum()
+        self.physical
+            .iter()
+            .map(|p| p.kind.bytes())
+            .fold(0, u64::saturating_add)
     }
 }
