@@ -1,23 +1,26 @@
 // Direct: emission seen at the primary hit (L0, front faces only) and next-event estimation
-// to every emissive triangle (L1).
+// to the emitters (L1): lib/shade_direct.wgsl.
 #include "lib/scene.wgsl"
 #include "lib/rng.wgsl"
+#include "lib/sampler.wgsl"
 #include "lib/sampling.wgsl"
 #include "lib/brdf.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/primary.wgsl"
+#include "lib/ray_texture.wgsl"
 #include "lib/surface.wgsl"
 #include "lib/light_sample.wgsl"
 #include "lib/light_select.wgsl"
 #include "lib/nee.wgsl"
+#include "lib/shade_direct.wgsl"
 
 @group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(1) var materials: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(2) var lights: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(5) var seeds: texture_storage_2d<r32uint, read>;
+@group(0) @binding(5) var<uniform> frame: Frame;
 @group(0) @binding(6) var l0: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(7) var out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
@@ -28,18 +31,9 @@ fn shade(id: vec3<u32>) {
     if any(id.xy >= textureDimensions(out)) {
         return;
     }
-    let ray = load_primary(pixel);
-    if ray.triangle == NO_HIT {
-        textureStore(l0, pixel, vec4<f32>(0.0));
-        textureStore(out, pixel, vec4<f32>(0.0));
-        return;
-    }
-    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
-    let emitted = select(vec3<f32>(0.0), scene_material(materials, s.material).ke, s.front);
-    var rng = rng_stream(textureLoad(seeds, pixel).x, 2u);
-    let lit = direct_light(s, -ray.dir, &rng);
-    textureStore(l0, pixel, vec4<f32>(emitted, 1.0));
-    textureStore(out, pixel, vec4<f32>(lit, 1.0));
+    let lit = shade_direct(load_primary(pixel), sample_source(id.xy, 1u, 0u));
+    textureStore(l0, pixel, vec4<f32>(lit.l0, 1.0));
+    textureStore(out, pixel, vec4<f32>(lit.direct, 1.0));
 }
 
 @compute @workgroup_size(8, 8)

@@ -5,6 +5,7 @@
 // accumulated colour does, and the albedo divides that colour consistently.
 #include "lib/scene.wgsl"
 #include "lib/primary.wgsl"
+#include "lib/ray_texture.wgsl"
 #include "lib/surface.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -18,6 +18,7 @@
 // highlights) would ghost.
 #include "lib/scene.wgsl"
 #include "lib/primary.wgsl"
+#include "lib/ray_texture.wgsl"
 
 struct Params {
     // Largest distance of the previous hit point from this hit's plane, relative to this

@@ -149,7 +149,7 @@ fn a_channel_that_is_no_float_output_texture_is_an_error_naming_it() {
     let session = render(&settings("graphs/pathtracer-denoise.ron", 16, 0, &[]), 1);
     for (name, says) in [
         ("nothing", "no resource 'nothing'"),
-        ("seeds", "'seeds' is r32uint"),
+        ("rays", "'rays' is rgba32float with 3 layer(s)"),
         ("atrous_a", "'atrous_a' is not among the graph's outputs"),
         ("result", "'result' is not a texture"),
     ] {

@@ -258,7 +258,8 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
     let flush_2 = render(&flush, SIZE, 2, FRAMES);
     for (name, s) in [("shipped", &ship_1), ("flush", &flush_1)] {
         assert_clean(s, FRAMES, name);
-        assert_eq!(s.scene().light_count, 2);
+        // The light's two triangles form one parallelogram light.
+        assert_eq!(s.scene().light_count, 1);
     }
 
     // Z-fighting: every pixel wholly inside the light's outline sees its front face on every
@@ -337,9 +338,15 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
             between_scenes.mse() <= bound,
             "{c}: the scenes differ beyond the noise"
         );
-        // And with the same seed, where the noise mostly cancels: the flush light is 0.1 mm
-        // farther from every lit point, which changes 1/d^2 by 2 x 0.1 / d: 0.04 % at the
-        // box's typical 500 mm, at most 0.2 % at the nearest points (100 mm). So 0.1 %.
+    }
+    // And with the same seed, where the noise cancels: the flush light is 0.1 mm farther from
+    // every lit point, which changes 1/d^2 by 2 x 0.1 / d: 0.04 % at the box's typical 500 mm,
+    // at most 0.2 % at the nearest points (100 mm). So 0.1 %. Not L0: lifting the light shifts
+    // its outline on screen by ~0.02 pixel, which flips the odd primary sample at its edge
+    // between light (Ke) and ceiling (0), about one pixel's worth of L0 per frame whichever
+    // the sampler, a real difference of 0.1-1 % of L0 that the checks above bound instead.
+    for c in ["direct", "indirect"] {
+        let a = channel(&ship_1, c);
         let same_seed = (mean(&channel(&flush_1, c)) - mean(&a)).abs() / mean(&a);
         eprintln!("{c}: same seed, means {:.4} % apart", same_seed * 100.0);
         assert!(

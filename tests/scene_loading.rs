@@ -55,34 +55,38 @@ fn cornell_box_has_32_triangles_from_16_quads() {
 }
 
 #[test]
-fn cornell_light_is_two_emissive_triangles_facing_down() {
+fn cornell_light_is_one_parallelogram_of_its_two_emissive_triangles_facing_down() {
     let scene = cornell();
     let gpu = scene.to_gpu();
-    assert_eq!(gpu.light_count, 2);
-    assert_eq!(gpu.lights.len(), 2);
+    // The quad's two triangles are one light: one shadow ray per shading point, not two.
+    assert_eq!(gpu.light_count, 1);
+    assert_eq!(gpu.lights.len(), 1);
     assert!(!gpu.has_specular);
-    for &i in &gpu.lights {
+    let light = gpu.lights[0];
+    assert!(light.is_parallelogram());
+    let normal = Vec3::from(light.e1).cross(Vec3::from(light.e2));
+    assert!(
+        normal.y < 0.0,
+        "the light's front face must point down, got {normal}"
+    );
+    assert_eq!(
+        gpu.materials[light.material as usize].ke,
+        [18.387, 13.9873, 6.75357]
+    );
+    for i in light.triangles() {
         let triangle = gpu.triangles[i as usize];
-        let material = gpu.materials[triangle.material as usize];
-        assert_eq!(material.ke, [18.387, 13.9873, 6.75357]);
+        assert_eq!(triangle.material, light.material);
         let [p0, p1, p2] = triangle.vertices();
-        let normal = (p1 - p0).cross(p2 - p0);
-        assert!(
-            normal.y < 0.0,
-            "the light's front face must point down, got {normal}"
-        );
+        // Each triangle faces the way the light does.
+        assert!((p1 - p0).cross(p2 - p0).dot(normal) > 0.0);
         assert!(p0.y == 548.7 && p1.y == 548.7 && p2.y == 548.7);
     }
-    // Together they cover the 130 x 105 light.
-    let area: f32 = gpu
-        .lights
-        .iter()
-        .map(|&i| {
-            let [p0, p1, p2] = gpu.triangles[i as usize].vertices();
-            0.5 * (p1 - p0).cross(p2 - p0).length()
-        })
-        .sum();
-    assert!((area - 130.0 * 105.0).abs() < 1e-2, "{area}");
+    // It covers the 130 x 105 light.
+    assert!(
+        (light.area() - 130.0 * 105.0).abs() < 1e-2,
+        "{}",
+        light.area()
+    );
 }
 
 #[test]
@@ -131,7 +135,11 @@ fn cornell_camera_rays_hit_the_tall_block_back_wall_and_light() {
         dir: Vec3::Y,
     };
     let hit = gpu.closest_hit(&up, 0.0, f32::MAX).expect("the light");
-    assert!(gpu.lights.contains(&hit.triangle));
+    assert!(
+        gpu.lights
+            .iter()
+            .any(|l| l.triangles().any(|t| t == hit.triangle))
+    );
     assert!((hit.t - 547.7).abs() < 1e-3);
 }
 

@@ -1,7 +1,7 @@
-// One sample of next-event estimation's light: a uniform point on an emissive triangle and the
-// shadow ray to it. Shared by nee.wgsl and the acne census (tests/fixtures), so the census
-// checks exactly the rays the passes cast. The including shader declares `triangles` and
-// `lights`, and includes scene, rng, sampling and surface.
+// One sample of next-event estimation's light: a uniform point on a light (a triangle or a
+// parallelogram) and the shadow ray to it. Shared by nee.wgsl and the acne census
+// (tests/fixtures), so the census checks exactly the rays the passes cast. The including
+// shader includes scene, sampling and surface.
 
 struct LightSample {
     // The shadow ray runs from the shading point's offset origin to `end` (t in (0, 1)).
@@ -13,15 +13,17 @@ struct LightSample {
     area: f32,
 }
 
-// Draws two random numbers whatever the outcome, so streams stay aligned across passes.
-fn sample_light(s: Surface, origin: vec3<f32>, i: u32, rng: ptr<function, u32>) -> LightSample {
-    let light = scene_triangle(triangles, scene_light(lights, i));
-    let u1 = rng_next(rng);
-    let u2 = rng_next(rng);
-    let q = sample_triangle(light.p0, light.p1, light.p2, u1, u2);
-    let c = cross(light.p1 - light.p0, light.p2 - light.p0);
-    let area = 0.5 * length(c);
-    let nl = c / (2.0 * area);
+// The point on `light` that the 2D sample u picks, uniformly by area.
+fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> LightSample {
+    let parallelogram = light.second != LIGHT_NO_TRIANGLE;
+    // A triangle takes the square's points through Turk's map; a parallelogram directly.
+    let su = sqrt(u.x);
+    let ab = select(vec2<f32>(su * (1.0 - u.y), su * u.y), u, parallelogram);
+    let q = light.p0 + ab.x * light.e1 + ab.y * light.e2;
+    let c = cross(light.e1, light.e2);
+    let twice = length(c);
+    let area = select(0.5 * twice, twice, parallelogram);
+    let nl = c / twice;
     let to_light = q - origin;
     let d2 = dot(to_light, to_light);
     let wi = to_light * inverseSqrt(d2);

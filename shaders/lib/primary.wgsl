@@ -1,5 +1,5 @@
-// Reading the primary ray that intersect stored. The including shader declares `rays`
-// (texture_storage_2d_array<rgba32float, read>) and `triangles`.
+// A primary ray and its closest hit, as intersect stores it (ray_texture.wgsl) or a fused pass
+// traces it.
 
 const NO_HIT: u32 = 0xffffffffu;
 
@@ -10,11 +10,4 @@ struct Primary {
     u: f32,
     v: f32,
     triangle: u32,
-}
-
-fn load_primary(pixel: vec2<i32>) -> Primary {
-    let o = textureLoad(rays, pixel, 0);
-    let d = textureLoad(rays, pixel, 1);
-    let h = textureLoad(rays, pixel, 2);
-    return Primary(o.xyz, d.xyz, h.x, h.y, h.z, bitcast<u32>(h.w));
 }

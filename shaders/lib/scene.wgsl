@@ -26,6 +26,20 @@ struct Material {
     pad1: f32,
 }
 
+// A light (src/scene/lights.rs): the points p0 + a e1 + b e2 with a, b >= 0 and a + b <= 1 (a
+// triangle, second == LIGHT_NO_TRIANGLE) or a, b in [0, 1] (a parallelogram of two triangles).
+// Only the front face, the side cross(e1, e2) points to, emits.
+struct Light {
+    p0: vec3<f32>,
+    material: u32,
+    e1: vec3<f32>,
+    second: u32,
+    e2: vec3<f32>,
+    first: u32,
+}
+
+const LIGHT_NO_TRIANGLE: u32 = 0xffffffffu;
+
 // A threaded BVH node (32 bytes). Interior: count == 0, `a` is the miss link (skip); the hit
 // link is implicit (this index + 1). Leaf: count > 0 triangles from index `a`; a leaf's next
 // node is always this index + 1. Traversal ends at index == arrayLength.
@@ -100,9 +114,13 @@ fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Materia
                     bitcast<f32>(b.w), bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w));
 }
 
-// Entry i of a scene.lights view (four u32 per texel).
-fn scene_light(view: texture_storage_2d<rgba32uint, read>, i: u32) -> u32 {
-    return scene_texel(view, i >> 2u)[i & 3u];
+// Light i of a scene.lights view (3 texels each).
+fn scene_light(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Light {
+    let a = scene_texel(view, 3u * i);
+    let b = scene_texel(view, 3u * i + 1u);
+    let c = scene_texel(view, 3u * i + 2u);
+    return Light(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
+                 bitcast<vec3<f32>>(c.xyz), c.w);
 }
 
 // Node i of a scene.bvh view (2 texels each).

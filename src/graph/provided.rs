@@ -33,12 +33,12 @@ pub const PROVIDED: &[Provided] = &[
     Provided {
         name: "scene.lights",
         kind: ProvidedKind::StorageBuffer,
-        what: "indices of the emissive triangles",
+        what: "the lights: emissive triangles, and parallelograms of two (p0, e1, e2, material, triangles; 48 bytes each)",
     },
     Provided {
         name: "scene.light_power",
         kind: ProvidedKind::StorageBuffer,
-        what: "f32 power of each emissive triangle (area x luminance of Ke), in scene.lights order",
+        what: "f32 power of each light (area x luminance of Ke), in scene.lights order",
     },
     Provided {
         name: "scene.bvh",

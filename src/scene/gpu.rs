@@ -5,7 +5,7 @@
 use super::bvh::{Bvh, BvhStats};
 use super::file::Scene;
 use super::intersect::{self, Hit, Ray};
-use super::lights::{emissive_triangles, light_power};
+use super::lights::{Light, light_power, scene_lights};
 use super::mesh::Mesh;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -150,9 +150,10 @@ pub struct SceneGpu {
     /// last and no leaf references them.
     pub triangles: Vec<Triangle>,
     pub materials: Vec<Material>,
-    /// Indices into `triangles` of the emissive triangles with nonzero area, ascending. Empty
-    /// when the scene has no emitters.
-    pub lights: Vec<u32>,
+    /// The lights: emissive triangles with nonzero area, pairs of them forming a
+    /// parallelogram joined into one (see `lights.rs`), ordered by first triangle. Empty when
+    /// the scene has no emitters.
+    pub lights: Vec<Light>,
     /// Each light's area times the luminance of its `Ke`, in `lights` order: the
     /// `scene.light_power` table that light selection samples from.
     pub light_power: Vec<f32>,
@@ -179,8 +180,8 @@ impl SceneGpu {
             })
             .collect();
         let materials = mesh.materials.clone();
-        let lights = emissive_triangles(&triangles, &materials);
-        let light_power = light_power(&lights, &triangles, &materials);
+        let lights = scene_lights(&triangles, &materials);
+        let light_power = light_power(&lights, &materials);
         let has_specular = triangles.iter().any(|t| {
             materials
                 .get(t.material as usize)
