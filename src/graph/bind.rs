@@ -33,6 +33,17 @@ pub struct BoundPass {
 pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
     let declared = &pass.decl.params;
     let shader = &pass.shader.path;
+    if let Some((name, value)) = declared.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(GraphError::NonFiniteParam {
+            file: pass.file.clone(),
+            pass: pass
+                .file
+                .file_stem()
+                .map_or(String::new(), |s| s.to_string_lossy().into()),
+            param: name.clone(),
+            value: format!("{value:?}"),
+        });
+    }
     let wrong_type = |param: &str, expected: String, found: &ParamValue| GraphError::ParamType {
         file: pass.file.clone(),
         pass: pass
@@ -285,6 +296,14 @@ fn resolve_params(
 ) -> Result<BTreeMap<String, ParamValue>, GraphError> {
     let mut params = pass.decl.params.clone();
     for (name, value) in &instance.params {
+        if !value.is_finite() {
+            return Err(GraphError::NonFiniteParam {
+                file: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                param: name.clone(),
+                value: format!("{value:?}"),
+            });
+        }
         let Some(default) = params.get_mut(name) else {
             return Err(GraphError::UnknownParam {
                 graph: graph_file.to_path_buf(),

@@ -217,6 +217,14 @@ pub enum GraphError {
     #[error("{}: no pass writes output '{output}'", graph.display())]
     OutputNotWritten { graph: PathBuf, output: String },
 
+    #[error("{}: pass '{pass}': param '{param}' is {value}, which is not finite; a param must be a finite number", file.display())]
+    NonFiniteParam {
+        file: PathBuf,
+        pass: String,
+        param: String,
+        value: String,
+    },
+
     #[error("{}: {reason}", graph.display())]
     EmptyGraph { graph: PathBuf, reason: String },
 

@@ -40,6 +40,18 @@ impl ParamValue {
         }
     }
 
+    /// Whether every float component is finite: NaN or infinity (also what RON makes of a
+    /// literal beyond f32's range, e.g. 1e39) would poison every pixel the param touches.
+    pub fn is_finite(&self) -> bool {
+        match *self {
+            ParamValue::F32(x) => x.is_finite(),
+            ParamValue::Vec2(a, b) => a.is_finite() && b.is_finite(),
+            ParamValue::Vec3(a, b, c) => [a, b, c].iter().all(|v| v.is_finite()),
+            ParamValue::Vec4(a, b, c, d) => [a, b, c, d].iter().all(|v| v.is_finite()),
+            ParamValue::U32(_) | ParamValue::I32(_) | ParamValue::Bool(_) => true,
+        }
+    }
+
     /// Little-endian bytes as WGSL lays the value out in a uniform block.
     pub fn to_le_bytes(&self) -> Vec<u8> {
         let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect();

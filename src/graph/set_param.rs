@@ -78,6 +78,11 @@ pub fn set_param(graph: &mut LoadedGraph, assignment: &str) -> Result<(), GraphE
     };
     let value = parse_value(default.ty(), text)
         .map_err(|e| invalid(format!("{e} (param type {})", default.ty())))?;
+    if !value.is_finite() {
+        return Err(invalid(format!(
+            "'{text}' is not finite; a param must be a finite number"
+        )));
+    }
     graph.decl.passes[index]
         .params
         .insert(param.to_string(), value);

@@ -2,6 +2,7 @@
 //! scaled basis the shaders use.
 
 use super::gpu::GpuCamera;
+use super::mesh::MAX_COORDINATE;
 use glam::Vec3;
 use thiserror::Error;
 
@@ -21,6 +22,14 @@ pub struct CameraDesc {
 pub enum CameraError {
     #[error("eye, target and up must be finite numbers")]
     NonFinite,
+    #[error(
+        "{what} has a coordinate of {value:e}, beyond ±{max:e} where the renderer's f32 arithmetic overflows"
+    )]
+    OutOfRange {
+        what: &'static str,
+        value: f32,
+        max: f32,
+    },
     #[error("eye and target are the same point, so the camera looks nowhere")]
     EyeAtTarget,
     #[error("up is zero or parallel to the view direction, so it does not orient the image")]
@@ -32,6 +41,16 @@ pub enum CameraError {
 /// How close to parallel `up` may be to the view direction: below this sine the right vector
 /// is mostly rounding error.
 const MIN_UP_SINE: f32 = 1e-6;
+
+/// `v` normalised, or `None` for a zero vector. Scaled by its largest component first, so that
+/// lengths whose square overflows (1e30) or underflows (1e-30) normalise too.
+fn unit(v: Vec3) -> Option<Vec3> {
+    let largest = v.abs().max_element();
+    if largest == 0.0 || !largest.is_finite() {
+        return None;
+    }
+    (v / largest).try_normalize()
+}
 
 impl CameraDesc {
     /// A camera at `eye` looking at `target`, with `up` (any length, not parallel to the view)
@@ -49,10 +68,17 @@ impl CameraDesc {
         if !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0) {
             return Err(CameraError::FieldOfView(fov_y_degrees));
         }
-        let forward = (target - eye)
-            .try_normalize()
-            .ok_or(CameraError::EyeAtTarget)?;
-        let up_unit = up.try_normalize().ok_or(CameraError::UpParallelToForward)?;
+        for (what, p) in [("eye", eye), ("target", target)] {
+            if let Some(&value) = p.to_array().iter().find(|c| c.abs() > MAX_COORDINATE) {
+                return Err(CameraError::OutOfRange {
+                    what,
+                    value,
+                    max: MAX_COORDINATE,
+                });
+            }
+        }
+        let forward = unit(target - eye).ok_or(CameraError::EyeAtTarget)?;
+        let up_unit = unit(up).ok_or(CameraError::UpParallelToForward)?;
         let cross = forward.cross(up_unit);
         if cross.length() <= MIN_UP_SINE {
             return Err(CameraError::UpParallelToForward);

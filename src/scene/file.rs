@@ -88,7 +88,7 @@ fn vec3((x, y, z): (Number, Number, Number)) -> Vec3 {
 /// (eye at target, up parallel to the view, fov outside (0, 180)); any mesh error (see
 /// [`load_mesh`]).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let text = crate::text_file::read_utf8(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
     })?;
@@ -111,6 +111,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
             CameraError::EyeAtTarget => "target",
             CameraError::UpParallelToForward => "up",
             CameraError::NonFinite => "camera",
+            CameraError::OutOfRange { what, .. } => what,
         };
         SceneError::Camera {
             at: Location {

@@ -24,6 +24,12 @@ pub struct Mesh {
     pub material_names: Vec<String>,
 }
 
+/// The largest coordinate magnitude a vertex may have. The renderer works in f32 and multiplies
+/// coordinate differences (edge cross products, squared distances): with |c| <= 1e18 those
+/// stay below 1.2e37, within f32's 3.4e38; beyond, they overflow to infinity and the triangle
+/// is lost as degenerate, so a file with such vertices is refused rather than rendered wrong.
+pub const MAX_COORDINATE: f32 = 1e18;
+
 /// The name given to [`Material::DEFAULT`] when a mesh needs it.
 pub const DEFAULT_MATERIAL_NAME: &str = "default";
 

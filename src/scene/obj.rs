@@ -8,20 +8,30 @@
 
 use super::error::{Location, SceneError};
 use super::gpu::Material;
-use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
+use super::mesh::{DEFAULT_MATERIAL_NAME, MAX_COORDINATE, Mesh, MeshTriangle};
 use glam::Vec3;
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
 use std::path::Path;
 
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
-    let text = read(path)?;
+    let text = unix_line_endings(read(path)?);
     let checked = check_obj(path, &text)?;
     load_checked(path, &checked)
 }
 
+/// Old Mac files end lines with a lone CR, which `str::lines` does not split on (the whole file
+/// would be one line, and no face would be found); CRLF and CR both become LF.
+fn unix_line_endings(text: String) -> String {
+    if text.contains('\r') {
+        text.replace("\r\n", "\n").replace('\r', "\n")
+    } else {
+        text
+    }
+}
+
 fn read(path: &Path) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    crate::text_file::read_utf8(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
     })
@@ -100,7 +110,7 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                 // Like tobj, the rest of the line is one file name (it may contain spaces).
                 let mtl_path = dir.join(rest);
                 if !libraries.contains_key(rest) {
-                    let mtl_text = std::fs::read_to_string(&mtl_path).map_err(|source| {
+                    let mtl_text = crate::text_file::read_utf8(&mtl_path).map_err(|source| {
                         if source.kind() == std::io::ErrorKind::NotFound {
                             SceneError::MissingMaterialLibrary {
                                 at: Location::line(path, number),
@@ -113,6 +123,7 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                             }
                         }
                     })?;
+                    let mtl_text = unix_line_endings(mtl_text);
                     for name in check_mtl(&mtl_path, &mtl_text)? {
                         if defined_set.insert(name.clone()) {
                             defined.push(name);
@@ -187,6 +198,13 @@ fn check_vertex(path: &Path, line: usize, rest: &str) -> Result<(), SceneError> 
         return Err(SceneError::NonFiniteVertex {
             at: Location::line(path, line),
             value,
+        });
+    }
+    if let Some(&c) = position.iter().find(|c| c.abs() > MAX_COORDINATE) {
+        return Err(SceneError::VertexOutOfRange {
+            at: Location::line(path, line),
+            value: c,
+            max: MAX_COORDINATE,
         });
     }
     Ok(())

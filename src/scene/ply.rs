@@ -6,7 +6,7 @@
 
 use super::error::{Location, SceneError};
 use super::gpu::Material;
-use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle, fan_triangulate};
+use super::mesh::{DEFAULT_MATERIAL_NAME, MAX_COORDINATE, Mesh, MeshTriangle, fan_triangulate};
 use glam::Vec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property};
@@ -52,6 +52,13 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
             return Err(SceneError::NonFiniteVertex {
                 at: places.locate("vertex", i),
                 value: bad.to_string(),
+            });
+        }
+        if let Some(&c) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
+            return Err(SceneError::VertexOutOfRange {
+                at: places.locate("vertex", i),
+                value: c,
+                max: MAX_COORDINATE,
             });
         }
         positions.push(Vec3::from(p));
@@ -112,6 +119,7 @@ fn parse_error(path: &Path, error: ply_rs_bw::parser::ParseError, has_lines: boo
             .to_string(),
         None => message,
     };
+    let message = human_message(&message);
     SceneError::Syntax {
         at: Location {
             path: path.to_path_buf(),
@@ -120,6 +128,58 @@ fn parse_error(path: &Path, error: ply_rs_bw::parser::ParseError, has_lines: boo
         },
         message,
     }
+}
+
+/// ply-rs-bw's messages nest its grammar's errors, with Rust `Debug` output, over several
+/// lines ("Couldn't parse line.\n\tString: '...'\n\tError: ParseError { location: LineCol
+/// {..}, expected: ExpectedSet {..} }"). Keeps what a user needs on one line: what failed,
+/// the text, the column and, for header keywords, what was expected.
+fn human_message(raw: &str) -> String {
+    let mut out = raw
+        .lines()
+        .next()
+        .unwrap_or("")
+        .trim()
+        .trim_end_matches('.')
+        .to_string();
+    if let Some(text) = raw
+        .split("String: '")
+        .nth(1)
+        .and_then(|rest| rest.split('\'').next())
+    {
+        out += &format!(": '{}'", text.trim());
+    }
+    // Columns: "error at 1:5:" (a grammar error) or "column: 10" (its Debug form).
+    let column = raw
+        .split("error at ")
+        .nth(1)
+        .and_then(|rest| rest.split(':').nth(1))
+        .or_else(|| {
+            raw.split("column: ")
+                .nth(1)
+                .and_then(|r| r.split(',').next())
+        })
+        .and_then(|c| c.trim().parse::<usize>().ok());
+    if let Some(column) = column {
+        out += &format!(" at column {column}");
+    }
+    if let Some(set) = raw
+        .split("expected: {")
+        .nth(1)
+        .and_then(|r| r.split('}').next())
+    {
+        let words: Vec<String> = set
+            .split(", ")
+            .map(|w| w.trim_matches(|c| c == '"' || c == '\\').to_string())
+            .filter(|w| w.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') && !w.is_empty())
+            .collect();
+        if !words.is_empty() {
+            out += &format!(" (expected one of: {})", words.join(", "));
+        }
+    } else if raw.contains("'0'..='9'") {
+        out += " (expected a number)";
+    }
+    out
 }
 
 /// Where element `i` of an element kind sits in the file.
