@@ -10,6 +10,7 @@ pub mod gpu;
 pub mod graph;
 pub mod render;
 pub mod scene;
+pub mod text_file;
 pub mod view;
 
 pub use graph::compile::{compile, compile_file};

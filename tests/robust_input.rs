@@ -656,3 +656,186 @@ fn enable_f16_renders_or_names_the_missing_feature() {
         assert!(!stderr.contains("Validation Error"), "{stderr}");
     }
 }
+
+// 8. NaN and infinite params were accepted.
+#[test]
+fn non_finite_params_are_rejected_from_set_graph_and_pass_file() {
+    for value in ["NaN", "inf", "-inf", "1e39"] {
+        refused_before_rendering(
+            &["--set", &format!("ambient.radius={value}")],
+            1,
+            &["ambient.radius", "finite"],
+        );
+    }
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#"(name: "ambient", pass: "ambient", bind: {"#,
+        r#"(name: "ambient", pass: "ambient", params: { "ambient_color": Vec3(0.1, NaN, 0.1) }, bind: {"#,
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &[
+            "pathtracer.ron",
+            "pass 'ambient'",
+            "'ambient_color'",
+            "finite",
+        ],
+    );
+    let p = Project::new();
+    p.edit("passes/ambient.ron", "F32(3.0e38)", "F32(inf)");
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["ambient.ron", "'radius'", "finite"],
+    );
+}
+
+const SCENE: &str = "scenes/cornell/scene.ron";
+const OBJ: &str = "scenes/cornell/cornell.obj";
+
+/// Loads a scene of the copy `p` through the library; the error's message.
+fn scene_error(p: &Project, rel: &str) -> String {
+    match passgraph::scene::load_scene(&p.path(rel)) {
+        Ok(_) => panic!("{rel} should not load"),
+        Err(e) => e.to_string(),
+    }
+}
+
+// 8. Triangles with 1e19 coordinates vanished silently (lost as degenerate).
+#[test]
+fn vertex_beyond_1e18_is_an_error_naming_file_and_line() {
+    let p = Project::new();
+    p.edit(
+        OBJ,
+        "usemtl white\nv 552.8 0.0 0.0\n",
+        "usemtl white\nv 552.8 1e19 0.0\n",
+    );
+    assert_mentions(&scene_error(&p, SCENE), &["cornell.obj:7:", "1e19", "1e18"]);
+    p.write(
+        "scenes/cornell/tri.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0\n1 -1e19 0\n0 1 0\n3 0 1 2\n",
+    );
+    p.edit(SCENE, "cornell.obj", "tri.ply");
+    assert_mentions(&scene_error(&p, SCENE), &["tri.ply:11:", "-1e19", "1e18"]);
+}
+
+// 9. PLY errors printed the parser's `ParseError { .. }` internals over several lines.
+#[test]
+fn ply_errors_are_one_human_line_without_parser_internals() {
+    let p = Project::new();
+    p.edit(SCENE, "cornell.obj", "bad.ply");
+    for (body, parts) in [
+        (
+            "element vertex 1\nproperty flot x\nend_header\n0\n",
+            vec!["bad.ply:4:", "'property flot x'", "float"],
+        ),
+        (
+            "element vertex 1\nproperty float x\nend_header\nx\n",
+            vec!["bad.ply:6:", "'x'", "number"],
+        ),
+    ] {
+        p.write(
+            "scenes/cornell/bad.ply",
+            &format!("ply\nformat ascii 1.0\n{body}"),
+        );
+        let message = scene_error(&p, SCENE);
+        assert_mentions(&message, &parts);
+        assert!(!message.contains("ParseError"), "{message}");
+        assert!(!message.contains('\n'), "{message}");
+    }
+}
+
+// 9. A camera 1e30 from its target was called "the same point".
+#[test]
+fn far_camera_is_out_of_range_and_a_near_target_is_a_valid_camera() {
+    let p = Project::new();
+    p.edit(SCENE, "eye: (278, 273, -800)", "eye: (278, 273, -1e30)");
+    let message = scene_error(&p, SCENE);
+    assert_mentions(&message, &["scene.ron:5:", "eye", "1e30", "1e18"]);
+    assert!(!message.contains("same point"), "{message}");
+    // 1e-30 apart: the squared length underflows, but the direction is well defined.
+    let v = glam::Vec3::new;
+    let camera = passgraph::scene::CameraDesc::new(
+        v(0.0, 0.0, 0.0),
+        v(1e-30, 0.0, 0.0),
+        v(0.0, 1.0, 0.0),
+        40.0,
+    )
+    .unwrap();
+    assert_eq!(camera.basis()[0], v(1.0, 0.0, 0.0));
+}
+
+// 9. An OBJ with CR-only line endings (old Mac) reported "no triangles".
+#[test]
+fn obj_and_mtl_with_cr_only_line_endings_load_like_lf() {
+    let p = Project::new();
+    let lf = passgraph::scene::load_scene(&p.path(SCENE)).unwrap();
+    for file in [OBJ, "scenes/cornell/cornell.mtl"] {
+        let text = std::fs::read_to_string(p.path(file)).unwrap();
+        p.write(file, &text.replace('\n', "\r"));
+    }
+    let cr = passgraph::scene::load_scene(&p.path(SCENE)).unwrap();
+    assert_eq!(cr.mesh, lf.mesh);
+}
+
+// 9. Non-UTF-8 files were reported without a line number.
+#[test]
+fn non_utf8_graph_shader_scene_or_mesh_names_the_line() {
+    let corrupt = |p: &Project, rel: &str, line: usize| {
+        let text = std::fs::read(p.path(rel)).unwrap();
+        let at = text
+            .iter()
+            .enumerate()
+            .filter(|&(_, &b)| b == b'\n')
+            .nth(line - 2)
+            .unwrap()
+            .0
+            + 1;
+        let mut bytes = text.clone();
+        bytes.insert(at, 0xff);
+        std::fs::write(p.path(rel), bytes).unwrap();
+    };
+    let p = Project::new();
+    corrupt(&p, GRAPH, 3);
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["pathtracer.ron", "line 3", "UTF-8"],
+    );
+    let p = Project::new();
+    corrupt(&p, "shaders/lib/rng.wgsl", 2);
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["rng.wgsl", "line 2", "UTF-8"],
+    );
+    let p = Project::new();
+    corrupt(&p, SCENE, 4);
+    assert_mentions(&scene_error(&p, SCENE), &["scene.ron", "line 4", "UTF-8"]);
+    let p = Project::new();
+    corrupt(&p, OBJ, 9);
+    assert_mentions(&scene_error(&p, SCENE), &["cornell.obj", "line 9", "UTF-8"]);
+}
+
+// 9. `view` without a display printed a path inside the cargo registry.
+#[test]
+fn view_without_a_display_says_so_without_a_source_path() {
+    let out = Command::new(env!("CARGO_BIN_EXE_passgraph"))
+        .args(["view", "--frames", "1", "--size", "8x8"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_mentions(&stderr, &["no display", "Xvfb"]);
+    assert!(
+        !stderr.contains(".cargo") && !stderr.contains(".rs:"),
+        "{stderr}"
+    );
+}

@@ -28,7 +28,7 @@ pub struct LoadedGraph {
 }
 
 pub fn read_text(path: &Path) -> Result<String, GraphError> {
-    std::fs::read_to_string(path).map_err(|source| GraphError::Io {
+    crate::text_file::read_utf8(path).map_err(|source| GraphError::Io {
         path: path.to_path_buf(),
         source,
     })

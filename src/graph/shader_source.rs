@@ -39,7 +39,7 @@ impl ShaderSource {
     /// Errors: an unreadable main file is [`GraphError::Io`]; a missing include or a malformed
     /// `#include` line is [`GraphError::Include`] at its line in the including file.
     pub fn load(path: &Path, shader_root: &Path) -> Result<ShaderSource, GraphError> {
-        let text = std::fs::read_to_string(path).map_err(|source| GraphError::Io {
+        let text = crate::text_file::read_utf8(path).map_err(|source| GraphError::Io {
             path: path.to_path_buf(),
             source,
         })?;
@@ -198,7 +198,7 @@ impl Builder<'_> {
                 "includes are nested more than {MAX_INCLUDE_DEPTH} deep; a chain this long is a mistake (or a generated file): join the files"
             )));
         }
-        let text = std::fs::read_to_string(found)
+        let text = crate::text_file::read_utf8(found)
             .map_err(|e| error(format!("cannot read {}: {e}", found.display())))?;
         self.depth += 1;
         let appended = self.append_file(normalize(found), &text);

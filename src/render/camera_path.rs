@@ -46,7 +46,7 @@ pub struct Segment {
 /// Reads a camera path; each segment's camera is the previous one's (the scene's for the
 /// first) with the fields it names replaced. Errors name the file and, for syntax, the line.
 pub fn load_camera_path(path: &Path, start: CameraDesc) -> Result<Vec<Segment>, String> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::text_file::read_utf8(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     // Fields are optional: `eye: (1, 2, 3)`, not `eye: Some((1, 2, 3))`.
     let options =

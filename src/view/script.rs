@@ -54,7 +54,7 @@ pub struct ScriptFrame {
 
 impl Script {
     pub fn load(path: &Path) -> Result<Script, String> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::text_file::read_utf8(path)
             .map_err(|e| format!("{}: cannot read the script: {e}", path.display()))?;
         Script::parse(&text)
             .map_err(|(line, message)| format!("{}:{line}: {message}", path.display()))

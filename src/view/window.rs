@@ -37,8 +37,24 @@ pub fn run(options: ViewOptions) -> Result<(), String> {
     // So is a graph that does not compile (this needs no GPU and no display).
     crate::compile_file(&options.settings.graph, options.settings.size)
         .map_err(|e| e.to_string())?;
+    const HINT: &str =
+        "on a machine without a display, run under Xvfb: xvfb-run passgraph view ...";
+    if ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .all(|v| std::env::var_os(v).is_none_or(|s| s.is_empty()))
+    {
+        return Err(format!(
+            "cannot open a window: no display (DISPLAY is not set); {HINT}"
+        ));
+    }
     let event_loop = EventLoop::new().map_err(|e| {
-        format!("cannot open a window: {e} (on a machine without a display, run under Xvfb)")
+        // winit's OS errors start with the winit source file and line that raised them.
+        let text = e.to_string();
+        let reason = match text.strip_prefix("os error at ") {
+            Some(rest) => rest.split_once(": ").map_or(rest, |(_, r)| r).to_string(),
+            None => text,
+        };
+        format!("cannot open a window: {reason}; {HINT}")
     })?;
     let mut app = App {
         options,
