@@ -496,13 +496,13 @@ fn duplicate_key_in_resources_bind_or_params_is_an_error_naming_key_and_line() {
     let p = Project::new();
     p.edit(
         GRAPH,
-        r#""rays": "rays", "seeds": "seeds", "ray_count": "rays_intersect","#,
-        r#""rays": "rays", "seeds": "seeds", "rays": "l0", "ray_count": "rays_intersect","#,
+        r#""ray_count": "rays_intersect","#,
+        r#""ray_count": "rays_intersect", "ray_count": "rays_ambient","#,
     );
     fails(
         &["check", &p.arg(GRAPH)],
         1,
-        &["pathtracer.ron:", "duplicate key \"rays\""],
+        &["pathtracer.ron:", "duplicate key \"ray_count\""],
     );
 
     let p = Project::new();
