@@ -6,6 +6,7 @@
 mod common;
 
 use common::render::{image as channel, render, root, settings};
+use common::stats::mean_over_seeds;
 use passgraph::render::image::RgbImage;
 
 const SAMPLES: usize = 256;
@@ -160,22 +161,6 @@ fn independent_sampler_is_uniform_and_uncorrelated() {
         r.abs() < bound,
         "consecutive samples: correlation {r} (bound {bound})"
     );
-}
-
-/// The per-component image means of `seeds` renders (one estimate per seed), their mean and
-/// the standard error of that mean from the spread between seeds: each seed randomises the
-/// sampler afresh, so the renders are independent, identically distributed estimates.
-fn mean_over_seeds(images: &[RgbImage]) -> ([f64; 3], [f64; 3]) {
-    let n = images.len() as f64;
-    let means: Vec<[f64; 3]> = images.iter().map(RgbImage::mean).collect();
-    let mut mean = [0.0; 3];
-    let mut se = [0.0; 3];
-    for k in 0..3 {
-        mean[k] = means.iter().map(|m| m[k]).sum::<f64>() / n;
-        let var = means.iter().map(|m| (m[k] - mean[k]).powi(2)).sum::<f64>() / (n - 1.0);
-        se[k] = (var / n).sqrt();
-    }
-    (mean, se)
 }
 
 const SAMPLER_SETS: [[&str; 4]; 2] = [

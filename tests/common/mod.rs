@@ -3,6 +3,7 @@
 #![allow(dead_code, clippy::result_large_err)]
 
 pub mod render;
+pub mod stats;
 
 use passgraph::{GraphError, Plan, compile_file};
 use std::path::{Path, PathBuf};

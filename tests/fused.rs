@@ -1,0 +1,129 @@
+//! The fused graph (graphs/pathtracer-fused.ron, shaders/path.wgsl) against the seed's separate
+//! passes, its samples per frame, and the indirect channel's splitting (`bounces`), on the GPU
+//! (lavapipe in CI).
+
+mod common;
+
+use common::render::{image as channel, render, root, settings};
+use common::stats::mean_over_seeds;
+use passgraph::render::image::RgbImage;
+
+const CORNELL: &str = "scenes/cornell/scene.ron";
+
+/// The largest difference between two images, relative to the larger of 1 and the pixel.
+fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
+    a.pixels
+        .iter()
+        .flatten()
+        .zip(b.pixels.iter().flatten())
+        .map(|(&x, &y)| (x - y).abs() / x.abs().max(y.abs()).max(1.0))
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn fused_pass_renders_the_separate_passes_samples_in_every_channel() {
+    // A grey ambient light, so that the ambient channel casts rays too.
+    let separate = render(
+        &settings(
+            "graphs/pathtracer.ron",
+            CORNELL,
+            32,
+            5,
+            &["ambient.ambient_color=0.2,0.2,0.2"],
+        ),
+        4,
+    );
+    let fused = render(
+        &settings(
+            "graphs/pathtracer-fused.ron",
+            CORNELL,
+            32,
+            5,
+            &["path.ambient_color=0.2,0.2,0.2"],
+        ),
+        4,
+    );
+    for c in ["l0", "direct", "indirect", "ambient"] {
+        let (a, b) = (channel(&separate, c), channel(&fused, c));
+        assert!(
+            a.mean()[0] > 0.0,
+            "{c} is black: the comparison would be empty"
+        );
+        // The same functions on the same samples: the primary ray the lighting passes read from
+        // the ray texture is the one the fused pass keeps in registers, bit for bit.
+        let d = max_relative_difference(&a, &b);
+        assert!(d <= 1e-6, "{c}: the fused image differs by {d}");
+    }
+    assert_eq!(separate.dropped().unwrap(), 0);
+    assert_eq!(fused.dropped().unwrap(), 0);
+}
+
+#[test]
+fn four_samples_per_frame_give_the_image_of_four_times_the_frames() {
+    let one = render(
+        &settings("graphs/pathtracer-fused.ron", CORNELL, 32, 2, &[]),
+        8,
+    );
+    let four = render(
+        &settings(
+            "graphs/pathtracer-fused.ron",
+            CORNELL,
+            32,
+            2,
+            &["path.samples_per_frame=4"],
+        ),
+        2,
+    );
+    let (a, b) = (channel(&one, "sum"), channel(&four, "sum"));
+    // The same 8 samples per pixel, averaged in another order: f32 rounding only.
+    let d = max_relative_difference(&a, &b);
+    assert!(d <= 1e-5, "the images differ by {d}");
+    // Each frame counts once however many samples it holds.
+    assert!(four.result().unwrap().iter().all(|p| p[3] == 2.0));
+}
+
+#[test]
+fn split_bounces_keep_the_expectation_on_the_furnace_and_the_cornell_box() {
+    let renders = |graph: &str, scene: &str, size: u32, set: &[&str]| -> Vec<_> {
+        (1..=8)
+            .map(|seed| render(&settings(graph, scene, size, seed, set), 4))
+            .collect()
+    };
+    // Furnace: Le (1 + rho + rho^2) with Le = 0.5, rho = 0.5, every channel exactly known.
+    let furnace = renders(
+        "graphs/pathtracer-fused.ron",
+        "tests/data/furnace/scene.ron",
+        16,
+        &["path.bounces=4"],
+    );
+    for (name, expected) in [("indirect", 0.125), ("sum", 0.875)] {
+        let images: Vec<_> = furnace.iter().map(|s| channel(s, name)).collect();
+        let (mean, se) = mean_over_seeds(&images);
+        // Five standard errors, and 1e-6 for f32 sums.
+        let bound = 5.0 * se[0] + 1e-6;
+        assert!(
+            (mean[0] - expected).abs() < bound,
+            "furnace {name}: mean {} expected {expected}, bound {bound}",
+            mean[0]
+        );
+    }
+    let reference =
+        RgbImage::read_exr(&root().join("tests/data/references/cornell-128-depth3.exr")).unwrap();
+    let expected = reference.mean();
+    let cornell = renders("graphs/pathtracer-fast.ron", CORNELL, 32, &[]);
+    let images: Vec<_> = cornell
+        .iter()
+        .map(|s| channel(s, "l0+direct+indirect"))
+        .collect();
+    let (mean, se) = mean_over_seeds(&images);
+    for k in 0..3 {
+        // The reference's own mean: its noise floor (RMSE 1e-3) over 128 pixels: 1e-5.
+        let bound = 5.0 * se[k] + 1e-5;
+        assert!(
+            (mean[k] - expected[k]).abs() < bound,
+            "Cornell, component {k}: mean {} reference {}, bound {bound}",
+            mean[k],
+            expected[k]
+        );
+    }
+}
