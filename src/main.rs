@@ -140,8 +140,8 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
-    /// A graph variant (repeatable): GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...]; @CHANNEL
-    /// compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
+    /// A graph variant (repeatable): [LABEL=]GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...];
+    /// @CHANNEL compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
     /// :SETs override params for this variant only (see src/bench/variant.rs).
     #[arg(long = "graph", default_value = DEFAULT_GRAPH)]
     graphs: Vec<Variant>,

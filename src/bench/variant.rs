@@ -1,5 +1,7 @@
-//! A bench variant on the command line: `GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...]`.
+//! A bench variant on the command line: `[LABEL=]GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...]`.
 //!
+//! - `LABEL=` names the variant (letters, digits, `-`, `_`, `+`), e.g.
+//!   `pcg=graphs/pathtracer.ron:intersect.sampler_kind=0,...`.
 //! - `GRAPH` alone renders the graph and compares `--channel`.
 //! - `@CHANNEL` compares that channel or output texture instead (e.g. the denoiser's
 //!   `graphs/pathtracer-denoise.ron@denoised`).
@@ -8,9 +10,9 @@
 //!   (`:direct.tint=1,0.5,0.5,accumulate.scale=2`): a piece that is not `INSTANCE.PARAM=...`
 //!   continues the previous value.
 //!
-//! A path that exists as given is never split. The label (CSV file name, table rows, chart
-//! legend) is the graph's file stem followed by what was given after it, so variants of one
-//! graph stay apart: `pathtracer:intersect.sampler=1`.
+//! A path that exists as given is never split. Without `LABEL=`, the label (CSV file name,
+//! table rows, chart legend) is the graph's file stem followed by what was given after it, so
+//! variants of one graph stay apart: `pathtracer:intersect.sampler=1`.
 
 use crate::render::channels::ChannelSelection;
 use std::path::PathBuf;
@@ -59,6 +61,17 @@ impl std::str::FromStr for Variant {
     type Err = String;
 
     fn from_str(text: &str) -> Result<Variant, String> {
+        let named = text.split_once('=').filter(|(name, _)| {
+            !name.is_empty()
+                && name
+                    .chars()
+                    .all(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | '+'))
+                && !PathBuf::from(text).exists()
+        });
+        let (name, text) = match named {
+            Some((name, rest)) => (Some(name), rest),
+            None => (None, text),
+        };
         let whole = PathBuf::from(text);
         let (head, sets) = match text.split_once(':') {
             Some((head, sets)) if !whole.exists() => (head, split_sets(sets)?),
@@ -78,6 +91,9 @@ impl std::str::FromStr for Variant {
         }
         if !sets.is_empty() {
             label = format!("{label}:{}", sets.join(","));
+        }
+        if let Some(name) = name {
+            label = name.to_string();
         }
         Ok(Variant {
             graph,
@@ -120,6 +136,17 @@ mod tests {
         assert!(v.channel.is_none());
         assert_eq!(v.set, ["intersect.sampler=1"]);
         assert_eq!(v.label, "pt:intersect.sampler=1");
+    }
+
+    #[test]
+    fn a_label_names_the_variant() {
+        let v = parse("pcg=g/pt.ron@denoised:intersect.sampler_kind=0,direct.sampler_kind=0");
+        assert_eq!(v.label, "pcg");
+        assert_eq!(v.graph, PathBuf::from("g/pt.ron"));
+        assert!(v.channel.is_some());
+        assert_eq!(v.set, ["intersect.sampler_kind=0", "direct.sampler_kind=0"]);
+        // The first '=' of a set is not a label: its left side has a '.' and a ':'.
+        assert_eq!(parse("pt.ron:intersect.x=1").label, "pt:intersect.x=1");
     }
 
     #[test]
