@@ -1,0 +1,501 @@
+//! A bounded mutation fuzzer over the shipped inputs (CI's fuzz step, see .ci/run): graphs,
+//! pass files, shaders and their includes, scenes, OBJ/MTL and PLY meshes (ASCII and binary),
+//! camera paths and viewer scripts. Each case mutates one file of a fresh scratch copy, then
+//! runs what `check` and the loaders run (no GPU): load and compile the graph, check the render
+//! contract, print the plan and dot; load the scene and build its BVH and GPU layout; parse the
+//! camera path and the script. Errors are the expected outcome; a panic, a crash (signal) or a
+//! case that runs longer than `--case-seconds` fails the run.
+//!
+//! ```sh
+//! cargo run --example fuzz_inputs -- --seed 1 --seconds 120
+//! ```
+//!
+//! Deterministic for a seed: case i is the same on every machine; `--seconds` bounds the run
+//! (it stops after the case in progress), `--cases` bounds the count. A crash leaves its case in
+//! the scratch folder printed at the start.
+
+use passgraph::graph::load::load_graph;
+use passgraph::render::channels::{Channel, ChannelSelection};
+use passgraph::render::session::check_render_contract;
+use std::panic::AssertUnwindSafe;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// SplitMix64: a tiny, well-known generator; the cases need reproducibility, not quality.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+/// Tokens that have broken parsers and size arithmetic before: numbers at the edges of their
+/// types, non-finite values, brackets, directives, line endings, invalid UTF-8.
+const TOKENS: &[&[u8]] = &[
+    b"0",
+    b"-1",
+    b"1e19",
+    b"1e30",
+    b"1e39",
+    b"-1e-45",
+    b"NaN",
+    b"inf",
+    b"-inf",
+    b"4294967295",
+    b"4294967296",
+    b"18446744073709551615",
+    b"4611686018427387905",
+    b"2147483648",
+    b"65536",
+    b"(",
+    b")",
+    b"[",
+    b"]",
+    b"{",
+    b"}",
+    b",",
+    b":",
+    b";",
+    b"\"",
+    b"'",
+    b"//",
+    b"/*",
+    b"*/",
+    b"\n",
+    b"\r",
+    b"\r\n",
+    b"\t",
+    b"\0",
+    b"\xff",
+    b"\xc3",
+    b"#include \"",
+    b"#include \"lib/rng.wgsl\"\n",
+    b"layers: ",
+    b"size: Scaled(",
+    b"Scaled(0.5)",
+    b"Absolute(",
+    b"PerPixel(",
+    b"Bytes(",
+    b"Workgroups(",
+    b"persistent: true",
+    b"@workgroup_size(1024, 1024)",
+    b"enable f16;\n",
+    b"textureStore(",
+    b"array<f32, 65536>",
+    b"override ",
+    b"@id(0) ",
+    b"var<storage, read_write>",
+    b"texture_storage_2d_array<rgba32float, write>",
+    b"F32(",
+    b"U32(",
+    b"Vec3(",
+    b"Bool(",
+    b"v ",
+    b"f ",
+    b"vt ",
+    b"vn ",
+    b"usemtl ",
+    b"mtllib ",
+    b"newmtl ",
+    b"Ke ",
+    b"Kd ",
+    b"Ns ",
+    b"element vertex ",
+    b"element face ",
+    b"property list uchar int vertex_indices\n",
+    b"property float ",
+    b"format binary_little_endian 1.0\n",
+    b"end_header\n",
+    b"key ",
+    b"wait ",
+    b"hold ",
+    b"drag ",
+    b"scroll ",
+    b"screenshot ",
+];
+
+/// One mutation of `data`: a byte flipped, inserted or removed, a range deleted or repeated,
+/// a token inserted or put in place of a number, or a line of another input spliced in.
+fn mutate(rng: &mut Rng, data: &mut Vec<u8>, donors: &[Vec<u8>]) {
+    let at = |rng: &mut Rng, data: &Vec<u8>| rng.below(data.len() + 1);
+    match rng.below(9) {
+        0 if !data.is_empty() => {
+            let i = rng.below(data.len());
+            data[i] ^= 1 << rng.below(8);
+        }
+        1 => {
+            let i = at(rng, data);
+            data.insert(i, rng.next() as u8);
+        }
+        2 if !data.is_empty() => {
+            let i = rng.below(data.len());
+            let n = (1 + rng.below(64)).min(data.len() - i);
+            data.drain(i..i + n);
+        }
+        3 if !data.is_empty() => {
+            // Repeat a range many times: long lines, deep nesting, huge counts.
+            let i = rng.below(data.len());
+            let n = (1 + rng.below(16)).min(data.len() - i);
+            let piece = data[i..i + n].to_vec();
+            let most = if rng.below(8) == 0 { 20_000 } else { 8 };
+            let times = 1 + rng.below(most);
+            let at = rng.below(data.len() + 1);
+            data.splice(at..at, piece.iter().copied().cycle().take(n * times));
+        }
+        4 | 5 => {
+            let token = rng.pick(TOKENS);
+            let i = at(rng, data);
+            data.splice(i..i, token.iter().copied());
+        }
+        6 => {
+            // A number replaced by a token.
+            let starts: Vec<usize> = (0..data.len())
+                .filter(|&i| data[i].is_ascii_digit() && (i == 0 || !data[i - 1].is_ascii_digit()))
+                .collect();
+            if starts.is_empty() {
+                return;
+            }
+            let s = *rng.pick(&starts);
+            let e = (s..data.len())
+                .find(|&i| !(data[i].is_ascii_digit() || data[i] == b'.'))
+                .unwrap_or(data.len());
+            let token = rng.pick(TOKENS);
+            data.splice(s..e, token.iter().copied());
+        }
+        7 => {
+            let donor = rng.pick(donors);
+            let lines: Vec<&[u8]> = donor.split_inclusive(|&b| b == b'\n').collect();
+            if lines.is_empty() {
+                return;
+            }
+            let line = rng.pick(&lines).to_vec();
+            let i = at(rng, data);
+            data.splice(i..i, line);
+        }
+        _ => {
+            // Truncate.
+            let n = rng.below(data.len() + 1);
+            data.truncate(n);
+        }
+    }
+}
+
+/// A binary little-endian PLY tetrahedron: the loader's binary path.
+fn binary_ply() -> Vec<u8> {
+    let mut out = b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n\
+property float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\n\
+end_header\n"
+        .to_vec();
+    for v in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ] {
+        for c in v {
+            out.extend(c.to_le_bytes());
+        }
+    }
+    for f in [[0i32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        out.push(3);
+        for i in f {
+            out.extend(i.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// The scratch project: graphs, passes, shaders and scenes as shipped, plus inputs made here.
+fn lay_out(root: &Path, dir: &Path) {
+    for sub in ["graphs", "passes", "shaders", "scenes"] {
+        copy_dir(&root.join(sub), &dir.join(sub));
+    }
+    let extra = dir.join("scenes/extra");
+    std::fs::create_dir_all(&extra).unwrap();
+    std::fs::copy(
+        root.join("tests/data/scenes/polygons.ply"),
+        extra.join("polygons.ply"),
+    )
+    .unwrap();
+    std::fs::write(extra.join("binary.ply"), binary_ply()).unwrap();
+    let camera =
+        "camera: Camera(eye: (0.5, 0.5, -3), target: (0.5, 0.5, 0), up: (0, 1, 0), fov_y: 40)";
+    for (name, mesh) in [("ply.ron", "polygons.ply"), ("binary.ron", "binary.ply")] {
+        std::fs::write(
+            extra.join(name),
+            format!("Scene(mesh: \"{mesh}\", {camera})\n"),
+        )
+        .unwrap();
+    }
+    std::fs::write(
+        extra.join("path.ron"),
+        "CameraPath([\n    (frames: 4),\n    (frames: 2, eye: (1, 2, 3), fov_y: 30),\n])\n",
+    )
+    .unwrap();
+    std::fs::write(
+        extra.join("view.script"),
+        "wait 2\nkey 2\nhold W 3\ndrag 10 -5\nscroll 2\nscreenshot a.png\nquit\n",
+    )
+    .unwrap();
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap();
+        }
+    }
+}
+
+fn files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files(&path, out);
+        } else {
+            out.push(path);
+        }
+    }
+}
+
+/// What a mutated file is exercised through.
+#[derive(Clone, Copy, Debug)]
+enum Target {
+    /// Compile a graph (the mutated file is the graph, a pass or a shader).
+    Graph,
+    Scene,
+    CameraPath,
+    Script,
+}
+
+/// Runs the loaders a mutated file feeds. Errors are expected and ignored; panics propagate.
+fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
+    match target {
+        Target::Graph => {
+            let size = [64, 48];
+            let Ok(mut loaded) = load_graph(graph) else {
+                return;
+            };
+            let _ =
+                passgraph::graph::set_param::set_param(&mut loaded, "direct.light_selection=true");
+            if let Ok(plan) = passgraph::compile(&loaded, size) {
+                let _ = check_render_contract(&plan, &ChannelSelection::Planes(vec![Channel::Sum]));
+                let _ = plan.to_string();
+                let _ = passgraph::to_dot(&plan);
+            }
+        }
+        Target::Scene => {
+            if let Ok(scene) = passgraph::scene::load_scene(scene) {
+                let gpu = scene.to_gpu();
+                let _ = scene.camera.to_gpu(64, 48);
+                let _ = gpu.triangles.len();
+            }
+        }
+        Target::CameraPath => {
+            let start = passgraph::scene::CameraDesc::new(
+                glam::Vec3::new(0.0, 0.0, -1.0),
+                glam::Vec3::ZERO,
+                glam::Vec3::Y,
+                40.0,
+            )
+            .unwrap();
+            let _ = passgraph::render::camera_path::load_camera_path(
+                &dir.join("scenes/extra/path.ron"),
+                start,
+            );
+        }
+        Target::Script => {
+            let _ = passgraph::view::script::Script::load(&dir.join("scenes/extra/view.script"));
+        }
+    }
+}
+
+struct Options {
+    seed: u64,
+    seconds: f64,
+    cases: u64,
+    case_seconds: u64,
+}
+
+fn options() -> Options {
+    let mut o = Options {
+        seed: 1,
+        seconds: 120.0,
+        cases: u64::MAX,
+        case_seconds: 30,
+    };
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    for pair in args.chunks(2) {
+        let value = pair.get(1).map(String::as_str).unwrap_or("");
+        let bad = || -> ! {
+            eprintln!("usage: fuzz_inputs [--seed N] [--seconds T] [--cases N] [--case-seconds T]");
+            std::process::exit(2)
+        };
+        match pair[0].as_str() {
+            "--seed" => o.seed = value.parse().unwrap_or_else(|_| bad()),
+            "--seconds" => o.seconds = value.parse().unwrap_or_else(|_| bad()),
+            "--cases" => o.cases = value.parse().unwrap_or_else(|_| bad()),
+            "--case-seconds" => o.case_seconds = value.parse().unwrap_or_else(|_| bad()),
+            _ => bad(),
+        }
+    }
+    o
+}
+
+fn main() {
+    let o = options();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let base = tempfile::Builder::new()
+        .prefix("passgraph-fuzz-")
+        .tempdir()
+        .unwrap();
+    let pristine = base.path().join("pristine");
+    lay_out(root, &pristine);
+    let mut inputs = Vec::new();
+    files(&pristine, &mut inputs);
+    inputs.sort();
+    let donors: Vec<Vec<u8>> = inputs.iter().map(|p| std::fs::read(p).unwrap()).collect();
+    let case_dir = base.path().join("case");
+    copy_dir(&pristine, &case_dir);
+    eprintln!(
+        "fuzz_inputs: seed {}, up to {} s, {} inputs; each case is laid out in {} (left there after a crash)",
+        o.seed,
+        o.seconds,
+        inputs.len(),
+        case_dir.display()
+    );
+
+    // A hang is a case running past --case-seconds: the watchdog names it and ends the run.
+    let current = Arc::new(Mutex::new(String::new()));
+    let started = Arc::new(AtomicU64::new(0));
+    let epoch = Instant::now();
+    {
+        let current = Arc::clone(&current);
+        let started = Arc::clone(&started);
+        let limit = o.case_seconds;
+        std::thread::spawn(move || {
+            loop {
+                std::thread::sleep(Duration::from_secs(1));
+                let since = epoch.elapsed().as_secs() - started.load(Ordering::Relaxed);
+                if since > limit {
+                    let case = current.lock().map(|c| c.clone()).unwrap_or_default();
+                    eprintln!("fuzz_inputs: HANG: {case} ran over {limit} s");
+                    std::process::exit(1);
+                }
+            }
+        });
+    }
+    // Panics are counted, not printed by the default hook at every case.
+    let panics: Arc<Mutex<Vec<String>>> = Arc::default();
+    {
+        let panics = Arc::clone(&panics);
+        let current = Arc::clone(&current);
+        std::panic::set_hook(Box::new(move |info| {
+            let case = current.lock().map(|c| c.clone()).unwrap_or_default();
+            if let Ok(mut p) = panics.lock() {
+                p.push(format!("{case}: {info}"));
+            }
+        }));
+    }
+
+    let mut rng = Rng(o.seed);
+    let mut done = 0u64;
+    while done < o.cases && epoch.elapsed().as_secs_f64() < o.seconds {
+        let index = rng.below(inputs.len());
+        let file = &inputs[index];
+        let rel = file.strip_prefix(&pristine).unwrap().to_path_buf();
+        let mut data = donors[index].clone();
+        for _ in 0..1 + rng.below(4) {
+            mutate(&mut rng, &mut data, &donors);
+        }
+        // The case folder is the pristine copy with this one file mutated (restored after).
+        std::fs::write(case_dir.join(&rel), &data).unwrap();
+
+        let name = rel.to_string_lossy().into_owned();
+        let target = if name.starts_with("graphs")
+            || name.starts_with("passes")
+            || name.starts_with("shaders")
+        {
+            Target::Graph
+        } else if name.ends_with("path.ron") {
+            Target::CameraPath
+        } else if name.ends_with(".script") {
+            Target::Script
+        } else {
+            Target::Scene
+        };
+        // A mutated graph, pass or shader is compiled through one graph using it (any graph
+        // for a shared file); a mesh through the scene naming it.
+        let graph = if name.starts_with("graphs") {
+            case_dir.join(&rel)
+        } else {
+            case_dir.join(*rng.pick(&[
+                "graphs/pathtracer.ron",
+                "graphs/pathtracer-denoise.ron",
+                "graphs/pathtracer-lightselect.ron",
+                "graphs/pathtracer-reproject.ron",
+            ]))
+        };
+        let scene_dir = case_dir.join(rel.parent().unwrap_or(Path::new("")));
+        let scene = if name.ends_with("scene.ron")
+            || name.ends_with("ply.ron")
+            || name.ends_with("binary.ron")
+        {
+            case_dir.join(&rel)
+        } else if name.ends_with("binary.ply") {
+            scene_dir.join("binary.ron")
+        } else if name.ends_with(".ply") {
+            scene_dir.join("ply.ron")
+        } else {
+            scene_dir.join("scene.ron")
+        };
+        if let Ok(mut c) = current.lock() {
+            *c = format!("case {done} (seed {}, {name}, {target:?})", o.seed);
+        }
+        started.store(epoch.elapsed().as_secs(), Ordering::Relaxed);
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            exercise(&case_dir, target, &graph, &scene)
+        }));
+        if result.is_err() {
+            // Keep the case for the report.
+            let kept = base.path().join(format!("panic-{done}"));
+            copy_dir(&case_dir, &kept);
+        }
+        std::fs::write(case_dir.join(&rel), &donors[index]).unwrap();
+        done += 1;
+    }
+    let seconds = epoch.elapsed().as_secs_f64();
+    let panics = panics.lock().map(|p| p.clone()).unwrap_or_default();
+    println!(
+        "fuzz_inputs: {done} cases in {seconds:.1} s (seed {}): {} panics",
+        o.seed,
+        panics.len()
+    );
+    if !panics.is_empty() {
+        for p in &panics {
+            eprintln!("PANIC {p}");
+        }
+        // Keep the failing cases for inspection.
+        let kept = base.keep();
+        eprintln!("fuzz_inputs: failing cases kept in {}", kept.display());
+        std::process::exit(1);
+    }
+}
