@@ -372,6 +372,12 @@ fn main() {
     let mut inputs = Vec::new();
     files(&pristine, &mut inputs);
     inputs.sort();
+    let graphs: Vec<PathBuf> = inputs
+        .iter()
+        .filter_map(|p| p.strip_prefix(&pristine).ok())
+        .filter(|p| p.starts_with("graphs"))
+        .map(Path::to_path_buf)
+        .collect();
     let donors: Vec<Vec<u8>> = inputs.iter().map(|p| std::fs::read(p).unwrap()).collect();
     let case_dir = base.path().join("case");
     copy_dir(&pristine, &case_dir);
@@ -447,12 +453,7 @@ fn main() {
         let graph = if name.starts_with("graphs") {
             case_dir.join(&rel)
         } else {
-            case_dir.join(*rng.pick(&[
-                "graphs/pathtracer.ron",
-                "graphs/pathtracer-denoise.ron",
-                "graphs/pathtracer-lightselect.ron",
-                "graphs/pathtracer-reproject.ron",
-            ]))
+            case_dir.join(rng.pick(&graphs))
         };
         let scene_dir = case_dir.join(rel.parent().unwrap_or(Path::new("")));
         let scene = if name.ends_with("scene.ron")
