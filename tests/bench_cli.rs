@@ -99,8 +99,13 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
     );
     let best2 = csv("b2.csv", "spp,seconds,rmse,relmse\n4,0.02,0.1,0.01\n");
     let graph = root.join("graphs/pathtracer.ron");
-    // The same graph twice, the second with a param of its own: two variants, two labels.
-    let with_set = format!("{}:intersect.reseed_on_restart=false", graph.display());
+    // The same graph three times: as it is, with a param of its own (labelled by it), and with
+    // the seed's PCG sampler in every pass under a label of its own.
+    let with_set = format!("{}:intersect.sample_index_restarts=true", graph.display());
+    let pcg = format!(
+        "pcg={}:intersect.sampler_kind=0,ambient.sampler_kind=0,direct.sampler_kind=0,indirect.sampler_kind=0",
+        graph.display()
+    );
     let bench = |out: &Path, extra: &[&std::ffi::OsStr]| {
         let output = Command::new(env!("CARGO_BIN_EXE_passgraph"))
             .arg("bench")
@@ -132,11 +137,13 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
                 graph.as_os_str(),
                 "--graph".as_ref(),
                 with_set.as_ref(),
+                "--graph".as_ref(),
+                pcg.as_ref(),
             ],
         );
         assert!(report.contains("| pathtracer | 4 |"), "{report}");
         assert!(
-            report.contains("| pathtracer:intersect.reseed_on_restart=false | 4 |"),
+            report.contains("| pathtracer:intersect.sample_index_restarts=true | 4 |"),
             "{report}"
         );
         assert!(out.join("runs.ron").exists());
@@ -161,7 +168,7 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
     // Both variants, each with the frames every round reached.
     assert!(report.contains("| pathtracer | 4 |"), "{report}");
     assert!(
-        report.contains("| pathtracer:intersect.reseed_on_restart=false | 4 |"),
+        report.contains("| pathtracer:intersect.sample_index_restarts=true | 4 |"),
         "{report}"
     );
     // Each Mitsuba curve is a row of its own, with the median time of its rounds at its last
@@ -181,9 +188,17 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
         .expect(&report);
     assert!(ratio_independent < ratio_best);
     assert!(
-        out.join("pathtracer:intersect.reseed_on_restart=false.csv")
+        out.join("pathtracer:intersect.sample_index_restarts=true.csv")
             .exists()
     );
+    // The labelled variant ran with its own params: the PCG sampler's image is not Sobol's.
+    assert!(report.contains("| pcg | 4 |"), "{report}");
+    let last_relmse = |name: &str| {
+        let csv = std::fs::read_to_string(out.join(name)).unwrap();
+        let last = csv.lines().last().unwrap().to_string();
+        last.split(',').nth(3).unwrap().parse::<f64>().unwrap()
+    };
+    assert_ne!(last_relmse("pcg.csv"), last_relmse("pathtracer.csv"));
     let chart = image::open(out.join("error-vs-time.png")).unwrap();
     assert_eq!((chart.width(), chart.height()), (900, 600));
 }
