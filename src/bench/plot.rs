@@ -10,7 +10,7 @@ const FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
 fn register_font() -> Result<(), String> {
     let bytes = std::fs::read(FONT).map_err(|e| {
-        format!("{FONT}: {e}; the chart's labels need it: apt-get install -y fonts-dejavu-core")
+        format!("{FONT}: {e}; the chart's labels need it: scripts/setup, or apt-get install -y fonts-dejavu-core")
     })?;
     // The font lives for the whole program: plotters keeps a 'static reference.
     let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
