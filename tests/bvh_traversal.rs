@@ -1,5 +1,5 @@
 //! The threaded BVH against the brute-force oracle ("every layout and traversal returns exactly
-//! the brute-force hit"), on random soups and on the hard cases of DESIGN §5–§6, plus the
+//! the brute-force hit"), on random soups and on the hard cases of docs/design.md §5–§6, plus the
 //! layout invariants the stackless GPU loop relies on.
 
 use glam::Vec3;

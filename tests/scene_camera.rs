@@ -1,4 +1,4 @@
-//! The pinhole camera of DESIGN §4: basis, pixel mapping (rows go down), aspect, field of
+//! The pinhole camera of docs/design.md §4: basis, pixel mapping (rows go down), aspect, field of
 //! view, and the inputs that cannot make a camera.
 
 use glam::Vec3;

@@ -1,4 +1,4 @@
-// Light selection (SEED.md III-A): one light per shading point instead of all of
+// Light selection (docs/design.md §8 A): one light per shading point instead of all of
 // them, chosen with probability proportional to its power (scene.light_power: area x luminance
 // of Ke) over its squared distance. Next-event estimation divides by that probability, so the
 // estimate stays unbiased. The including shader declares `triangles`, `lights` and

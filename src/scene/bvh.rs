@@ -1,4 +1,4 @@
-//! The threaded BVH (DESIGN §5): a binned SAH build on the CPU, flattened depth-first so that a
+//! The threaded BVH (docs/design.md §5): a binned SAH build on the CPU, flattened depth-first so that a
 //! node's first child is the next node and only the miss link (`skip`) is stored.
 
 use super::gpu::BvhNode;

@@ -1,4 +1,4 @@
-//! The pinhole camera (DESIGN §4): eye, target, up and a vertical field of view, turned into the
+//! The pinhole camera (docs/design.md §4): eye, target, up and a vertical field of view, turned into the
 //! scaled basis the shaders use.
 
 use super::gpu::GpuCamera;
