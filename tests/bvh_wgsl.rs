@@ -1,21 +1,19 @@
 //! `shaders/lib/bvh.wgsl`: it validates with naga through the include step, and on a GPU
-//! (lavapipe in CI) it answers exactly as the CPU traversal in `scene::intersect` does. The GPU
-//! harness lives in tests/robust_common/bvh_gpu.rs, shared with the robustness suites.
+//! (lavapipe in CI) it answers as the CPU traversal in `scene::intersect` does (the same hits,
+//! t within rounding; see `compare`). The GPU harness lives in tests/common/bvh_gpu.rs, shared
+//! with the robustness suites.
 
-#[path = "robust_common/bvh_gpu.rs"]
-mod bvh_gpu;
+mod common;
 
-use bvh_gpu::{Query, check_shader, compare, gpu, run_on_gpu};
+use common::bvh_gpu::{Query, check_shader, compare, gpu, run_on_gpu};
+use common::geometry::Rng;
+use common::root;
 use glam::Vec3;
 use passgraph::graph::format::{TextureDim, TextureFormat};
 use passgraph::graph::interface::{Access, BindingKind};
 use passgraph::graph::reflect::reflect;
 use passgraph::scene::{DEFAULT_SCENE, Mesh, SceneGpu, load_scene};
-use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use std::path::Path;
 
 #[test]
 fn bvh_wgsl_validates_with_naga_when_included_after_scene_wgsl() {
@@ -63,26 +61,6 @@ fn bvh_wgsl_defines_only_its_documented_names() {
                 assert!(public || prefixed, "unprefixed module-scope name '{name}'");
             }
         }
-    }
-}
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(
-            lo + (hi - lo) * self.unit(),
-            lo + (hi - lo) * self.unit(),
-            lo + (hi - lo) * self.unit(),
-        )
     }
 }
 

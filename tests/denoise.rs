@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::render::{image, render, root};
+use common::render::{image, render};
+use common::root;
 use passgraph::bench::metrics::image_error;
 use passgraph::compile_file;
 use passgraph::gpu::{Executor, GpuContext, ProvidedData};

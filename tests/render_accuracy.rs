@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::render::{image as channel, render, root};
+use common::render::{image as channel, render};
+use common::root;
 use passgraph::bench::metrics::{downsample_2x, image_error};
 use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};

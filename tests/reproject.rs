@@ -3,30 +3,24 @@
 //! it keeps the history of pixels that still see the same surface, and its error against a
 //! converged image of the new view is lower than restarting.
 
+mod common;
+
+use common::render::settings;
+use common::root;
 use glam::Vec3;
 use passgraph::bench::metrics::image_error;
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};
 use passgraph::scene::CameraDesc;
-use std::path::Path;
 use std::process::Command;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 const SIZE: u32 = 48;
 
 fn session(graph: &str, seed: u32) -> Session {
     Session::new(&RenderSettings {
-        graph: root().join(graph),
-        scene: root().join("scenes/cornell/scene.ron"),
-        size: [SIZE, SIZE],
-        seed,
-        set: vec![],
-        adapter: None,
         max_frames: u32::MAX,
+        ..settings(graph, "scenes/cornell/scene.ron", SIZE, seed, &[])
     })
     .unwrap_or_else(|e| panic!("{graph}: {e}"))
 }

@@ -1,19 +1,19 @@
-//! Accumulation hard cases (DESIGN §4, §6): the f32 running mean over very many frames, on the
-//! CPU in the shader's exact arithmetic and on the GPU through the real `accumulate.wgsl`, and
-//! non-finite samples that must be dropped and counted, never averaged in.
+//! Accumulation hard cases (docs/design.md §4, §6): the f32 running mean over very many frames,
+//! on the CPU in the shader's exact arithmetic and on the GPU through the real
+//! `accumulate.wgsl`, and non-finite samples that must be dropped and counted, never averaged in.
 //!
 //! The GPU tests feed the accumulate pass from `tests/fixtures/shaders/robust_signal.wgsl`, a
 //! deterministic source that `signal` below reproduces bit for bit, so the exact mean of the
 //! samples the GPU saw is known.
 
+mod common;
+
+use common::render::settings;
+use common::root;
 use passgraph::render::accumulate::{CompensatedMean, plain_mean_step};
 use passgraph::render::session::{RenderSettings, Session};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn signal_graph() -> PathBuf {
     root().join("tests/fixtures/graphs/robust_signal.ron")
@@ -145,13 +145,14 @@ fn cpu_running_mean_of_a_million_noisy_frames_stays_within_1e_5_of_the_exact_mea
 
 fn signal_session(size: u32, frames: u32, inject_every: u32) -> Session {
     let settings = RenderSettings {
-        graph: signal_graph(),
-        scene: any_scene(),
-        size: [size, size],
-        seed: 0,
-        set: vec![format!("signal.inject_every={inject_every}")],
-        adapter: None,
         max_frames: frames,
+        ..settings(
+            signal_graph(),
+            any_scene(),
+            size,
+            0,
+            &[&format!("signal.inject_every={inject_every}")],
+        )
     };
     let mut session = Session::new(&settings).unwrap_or_else(|e| panic!("session: {e}"));
     for _ in 0..frames {

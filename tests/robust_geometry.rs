@@ -1,18 +1,19 @@
-//! Geometric hard cases (DESIGN §5–§6, issue 4) on the CPU traversal and through
+//! Geometric hard cases (docs/design.md §5–§6) on the CPU traversal and through
 //! `shaders/lib/bvh.wgsl` on the GPU (lavapipe in CI): watertight closed meshes, the slab test
 //! with zero and signed-zero direction components and flat boxes, and degenerate triangles.
 //! Every test prints its measured figures (`cargo test --test robust_geometry -- --nocapture`).
 
-mod robust_common;
+mod common;
 
+use common::bvh_gpu::{Answer, Query, compare, gpu, run_on_gpu};
+use common::geometry::{IndexedMesh, Mtl, ObjWriter, Rng, grid_cube, icosphere};
+use common::render::{assert_clean, image, render_scene};
 use glam::Vec3;
 use passgraph::scene::bvh::{Bvh, MAX_LEAF_TRIANGLES, is_degenerate};
 use passgraph::scene::intersect::{
     PreparedRay, brute_force_any_hit, brute_force_closest_hit, intersect_box, intersect_triangle,
 };
 use passgraph::scene::{BvhNode, Mesh, Ray, SceneGpu};
-use robust_common::bvh_gpu::{Answer, Query, compare, gpu, run_on_gpu};
-use robust_common::{IndexedMesh, Mtl, ObjWriter, Rng, grid_cube, icosphere};
 
 fn scene(triangles: &[[Vec3; 3]]) -> SceneGpu {
     SceneGpu::build(&Mesh::from_triangles("test", triangles))
@@ -618,7 +619,7 @@ fn image_of_degenerate_triangles_has_no_nan_on_the_gpu() {
         Vec3::Y,
         40.0,
     );
-    let session = robust_common::render(&path, 32, 1, 8);
+    let session = render_scene(&path, 32, 1, 8);
     assert_eq!(
         session.scene().light_count,
         1,
@@ -628,8 +629,8 @@ fn image_of_degenerate_triangles_has_no_nan_on_the_gpu() {
         session.scene().bvh.degenerate_count,
         2 * degenerate.len() - 2
     );
-    robust_common::assert_clean(&session, 8, "degenerate scene");
-    let sum = robust_common::channel(&session, "sum");
+    assert_clean(&session, 8, "degenerate scene");
+    let sum = image(&session, "sum");
     let lit = sum.pixels.iter().filter(|p| p[0] > 0.0).count();
     eprintln!("degenerate scene: 32x32 x 8 frames, all finite, 0 dropped, {lit} lit pixels");
     assert!(lit > 100, "the scene should be visible");

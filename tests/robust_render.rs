@@ -3,16 +3,16 @@
 //! light, cameras inside geometry or facing nothing, and empty scenes. Figures are printed
 //! (`cargo test --test robust_render -- --nocapture`).
 
-mod robust_common;
+mod common;
 
+use common::geometry::{Mtl, ObjWriter, Rng};
+use common::render::{PATHTRACER, assert_clean, image, mean, render, render_scene, settings};
+use common::root;
 use glam::Vec3;
 use passgraph::bench::metrics::image_error;
 use passgraph::render::session::Session;
 use passgraph::scene::camera::project;
 use passgraph::scene::{CameraDesc, Ray, load_scene};
-use robust_common::{
-    Mtl, ObjWriter, Rng, assert_clean, channel, mean, render, render_with, root, settings,
-};
 use std::path::{Path, PathBuf};
 
 const CORNELL: &str = "scenes/cornell/scene.ron";
@@ -74,13 +74,13 @@ struct Census {
 
 fn acne_census(scene: &Path, size: u32, seed: u32, frames: u32, near: f64) -> Census {
     let s = settings(
-        &root().join("tests/fixtures/graphs/robust_acne.ron"),
+        "tests/fixtures/graphs/robust_acne.ron",
         scene,
         size,
         seed,
-        &[format!("acne.near={near:e}")],
+        &[format!("acne.near={near:e}").as_str()],
     );
-    let session = render_with(&s, frames);
+    let session = render(&s, frames);
     let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&session.read_resource("acne").unwrap());
     let kind = |k: usize| [counts[k], counts[k + 1], counts[k + 2], counts[k + 3]];
     Census {
@@ -106,9 +106,9 @@ fn cornell_box_translated_by_1e5_and_scaled_renders_alike_without_shadow_acne() 
     let mut original_mean = None;
     for (name, scale, offset) in variants {
         let scene = cornell_variant(&dir.path().join(name), scale, offset, |t| t);
-        let session = render(&scene, SIZE, SEED, FRAMES);
+        let session = render_scene(&scene, SIZE, SEED, FRAMES);
         assert_clean(&session, FRAMES, name);
-        let m = mean(&channel(&session, "sum"));
+        let m = mean(&image(&session, "sum"));
         let reference = *original_mean.get_or_insert(m);
         let relative = (m - reference).abs() / reference;
         // "A tiny distance": 1e-4 of the scene's size. A ray blocked by its own surface is
@@ -252,10 +252,10 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
     let flush = cornell_variant(&dir.path().join("flush"), 1.0, 0.0, light_flush_in_a_hole);
     let ke = [18.387f32, 13.9873, 6.75357];
 
-    let ship_1 = render(&shipped, SIZE, 1, FRAMES);
-    let ship_2 = render(&shipped, SIZE, 2, FRAMES);
-    let flush_1 = render(&flush, SIZE, 1, FRAMES);
-    let flush_2 = render(&flush, SIZE, 2, FRAMES);
+    let ship_1 = render_scene(&shipped, SIZE, 1, FRAMES);
+    let ship_2 = render_scene(&shipped, SIZE, 2, FRAMES);
+    let flush_1 = render_scene(&flush, SIZE, 1, FRAMES);
+    let flush_2 = render_scene(&flush, SIZE, 2, FRAMES);
     for (name, s) in [("shipped", &ship_1), ("flush", &flush_1)] {
         assert_clean(s, FRAMES, name);
         // The light's two triangles form one parallelogram light.
@@ -284,8 +284,8 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
     );
     for (name, s, y) in [("shipped", &ship_1, 548.7), ("flush", &flush_1, 548.8)] {
         let light = Polygon::project(&camera, SIZE, &corners(y));
-        let l0 = channel(s, "l0");
-        let direct = channel(s, "direct");
+        let l0 = image(s, "l0");
+        let direct = image(s, "direct");
         let (mut inside, mut outside) = (0, 0);
         for py in 0..SIZE {
             for px in 0..SIZE {
@@ -323,9 +323,9 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
     // MSE(shipped 1, flush 2) exceeding MSE(shipped 1, shipped 2), beyond five standard errors
     // of both (the bound of tests/render_accuracy.rs).
     for c in ["sum", "l0+direct", "indirect"] {
-        let a = channel(&ship_1, c);
-        let between_scenes = image_error(&a, &channel(&flush_2, c)).unwrap();
-        let between_seeds = image_error(&a, &channel(&ship_2, c)).unwrap();
+        let a = image(&ship_1, c);
+        let between_scenes = image_error(&a, &image(&flush_2, c)).unwrap();
+        let between_seeds = image_error(&a, &image(&ship_2, c)).unwrap();
         let bound = between_seeds.mse()
             + 5.0 * (between_scenes.mse_standard_error + between_seeds.mse_standard_error);
         eprintln!(
@@ -346,8 +346,8 @@ fn cornell_light_under_the_ceiling_shows_no_leak_or_z_fighting_against_a_flush_l
     // between light (Ke) and ceiling (0), about one pixel's worth of L0 per frame whichever
     // the sampler, a real difference of 0.1-1 % of L0 that the checks above bound instead.
     for c in ["direct", "indirect"] {
-        let a = channel(&ship_1, c);
-        let same_seed = (mean(&channel(&flush_1, c)) - mean(&a)).abs() / mean(&a);
+        let a = image(&ship_1, c);
+        let same_seed = (mean(&image(&flush_1, c)) - mean(&a)).abs() / mean(&a);
         eprintln!("{c}: same seed, means {:.4} % apart", same_seed * 100.0);
         assert!(
             same_seed < 0.001,
@@ -418,10 +418,10 @@ fn emitters_seen_from_behind_and_points_behind_or_grazing_them_add_nothing() {
         Vec3::new(0.0, 0.0, 0.0),
         false,
     );
-    let session = render(&below, SIZE, 3, FRAMES);
+    let session = render_scene(&below, SIZE, 3, FRAMES);
     assert_clean(&session, FRAMES, "from below");
     for c in ["l0", "direct", "indirect", "sum"] {
-        let img = channel(&session, c);
+        let img = image(&session, c);
         assert!(
             img.pixels.iter().flatten().all(|&v| v == 0.0),
             "from below: {c} is not black"
@@ -436,14 +436,14 @@ fn emitters_seen_from_behind_and_points_behind_or_grazing_them_add_nothing() {
         Vec3::new(0.0, 0.0, 0.0),
         true,
     );
-    let session = render(&above, SIZE, 4, FRAMES);
+    let session = render_scene(&above, SIZE, 4, FRAMES);
     assert_clean(&session, FRAMES, "from above");
-    let direct = channel(&session, "direct");
+    let direct = image(&session, "direct");
     assert!(
         direct.pixels.iter().flatten().all(|&v| v == 0.0),
         "from above: direct light at cos <= 0"
     );
-    let l0 = channel(&session, "l0");
+    let l0 = image(&session, "l0");
     let ke = [4.0f32, 2.0, 1.0];
     let full = l0.pixels.iter().filter(|p| **p == ke).count();
     assert!(
@@ -451,7 +451,7 @@ fn emitters_seen_from_behind_and_points_behind_or_grazing_them_add_nothing() {
             .iter()
             .all(|p| (0..3).all(|k| p[k] >= 0.0 && p[k] <= ke[k]))
     );
-    let lit = channel(&session, "indirect")
+    let lit = image(&session, "indirect")
         .pixels
         .iter()
         .filter(|p| p[0] > 0.0)
@@ -502,7 +502,7 @@ fn camera_facing_away_from_everything_renders_exact_zeros_without_losing_samples
         .unwrap()
         .replace("target: (278, 273, 0)", "target: (278, 273, -1800)");
     std::fs::write(&scene, text).unwrap();
-    let session = render(&scene, 32, 5, FRAMES);
+    let session = render_scene(&scene, 32, 5, FRAMES);
     assert_clean(&session, FRAMES, "facing away");
     let result = session.result().unwrap();
     assert!(result.iter().all(|p| p[..3] == [0.0; 3]));
@@ -524,15 +524,9 @@ fn empty_mesh_is_a_load_error_and_an_all_degenerate_mesh_renders_black() {
         "Scene(mesh: \"mesh.obj\", camera: Camera(eye: (0, 0, -5), target: (0, 0, 0), up: (0, 1, 0), fov_y: 40))",
     )
     .unwrap();
-    let error = Session::new(&settings(
-        &robust_common::pathtracer(),
-        &empty.join("scene.ron"),
-        16,
-        0,
-        &[],
-    ))
-    .err()
-    .expect("an empty mesh must not load");
+    let error = Session::new(&settings(PATHTRACER, empty.join("scene.ron"), 16, 0, &[]))
+        .err()
+        .expect("an empty mesh must not load");
     let message = error.to_string();
     assert!(
         message.contains("no triangles") && message.contains("mesh.obj"),
@@ -558,7 +552,7 @@ fn empty_mesh_is_a_load_error_and_an_all_degenerate_mesh_renders_black() {
         Vec3::Y,
         40.0,
     );
-    let session = render(&scene, 16, 0, 4);
+    let session = render_scene(&scene, 16, 0, 4);
     assert_eq!(
         (session.scene().light_count, session.scene().nodes.len()),
         (0, 0)
@@ -582,8 +576,8 @@ fn non_finite_vertex_stops_the_render_with_file_and_line() {
     )
     .unwrap();
     let error = Session::new(&settings(
-        &robust_common::pathtracer(),
-        &dir.path().join("scene.ron"),
+        PATHTRACER,
+        dir.path().join("scene.ron"),
         16,
         0,
         &[],

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::copy_dir;
+use common::{copy_dir, root};
 use passgraph::gpu::GpuContext;
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::session::{RenderSettings, Session};
@@ -32,21 +32,19 @@ fn edit(path: &Path, from: &str, to: &str) {
 
 #[test]
 fn reloader_keeps_the_last_good_graph_and_picks_up_fixes_and_edits() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let dir = tempfile::tempdir().unwrap();
     for sub in ["graphs", "passes", "shaders"] {
         copy_dir(&root.join(sub), &dir.path().join(sub));
     }
     let settings = RenderSettings {
-        graph: dir.path().join("graphs/pathtracer.ron"),
-        scene: root.join("scenes/cornell/scene.ron"),
         size: SIZE,
-        seed: 0,
-        set: Vec::new(),
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
+        ..RenderSettings::new(
+            dir.path().join("graphs/pathtracer.ron"),
+            root.join("scenes/cornell/scene.ron"),
+        )
     };
-    let ctx = GpuContext::new(None).expect("lavapipe: apt-get install -y mesa-vulkan-drivers");
+    let ctx = GpuContext::new(None).unwrap_or_else(|e| panic!("{e}"));
     let (mut reloader, mut session) = Reloader::new(ctx, settings).unwrap();
     let camera = session.scene_description().camera;
     let rng = dir.path().join("shaders/lib/rng.wgsl");

@@ -3,13 +3,9 @@
 
 mod common;
 
-use common::copy_dir;
+use common::{copy_dir, root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The tutorial's files, relative to docs/.
 const FILES: [&str; 3] = [

@@ -16,7 +16,9 @@
 // Nothing here forms an infinity or a NaN from finite input (vertices within 1e14 of the ray
 // origin): WGSL lets a GPU return anything for an operation that would. The edge functions'
 // exactness does not depend on whether the compiler fuses multiply-adds or rewrites float
-// algebra (see bvh_two_product); on lavapipe the GPU answers bit for bit as the CPU twin
+// algebra (see bvh_two_product). On lavapipe the GPU finds the CPU twin's hits, with t within
+// 64 ulps of the farthest vertex's distance (WGSL allows fused multiply-adds and inexact
+// division), except that at a shared edge or vertex it may pick the neighbour
 // (tests/bvh_wgsl.rs, tests/robust_geometry.rs).
 
 // A hit: ray parameter t, barycentrics u (of p1) and v (of p2), so the point is

@@ -42,7 +42,7 @@ const LIGHT_NO_TRIANGLE: u32 = 0xffffffffu;
 
 // A threaded BVH node (32 bytes). Interior: count == 0, `a` is the miss link (skip); the hit
 // link is implicit (this index + 1). Leaf: count > 0 triangles from index `a`; a leaf's next
-// node is always this index + 1. Traversal ends at index == arrayLength.
+// node is always this index + 1. Traversal ends at index == scene_node_count.
 struct BvhNode {
     lo: vec3<f32>,
     a: u32,

@@ -58,7 +58,7 @@ pub struct GpuResources {
 /// A provided resource in the forms its bindings ask for.
 struct ProvidedObject {
     buffer: Option<wgpu::Buffer>,
-    /// The bytes as `Rgba32Uint` texels, for `texture_2d<u32>` bindings (see `texels`).
+    /// The bytes as `Rgba32Uint` texels, for texel-view bindings (see `texels`).
     texels: Option<wgpu::Texture>,
 }
 
@@ -407,7 +407,7 @@ struct ProvidedNeed {
     first_pass: String,
     /// Bound as a buffer (storage or uniform) by some pass.
     as_buffer: bool,
-    /// Bound as a texel view (`texture_2d<u32>`) by some pass.
+    /// Bound as a texel view (a storage or sampled `u32` texture) by some pass.
     as_texels: bool,
 }
 

@@ -1,5 +1,6 @@
-//! Texel views: a provided buffer bound as `texture_2d<u32>`, its bytes in 16-byte `Rgba32Uint`
-//! texels, row-major. Where storage-buffer loads are slow (lavapipe gathers them lane by lane
+//! Texel views: a provided buffer bound as `texture_storage_2d<rgba32uint, read>` (what the
+//! readers in `shaders/lib/scene.wgsl` take) or `texture_2d<u32>`, its bytes in 16-byte
+//! `Rgba32Uint` texels, row-major. Where storage-buffer loads are slow (lavapipe gathers them lane by lane
 //! with a branch each; a texel fetch is one vector load per lane) scene data read this way
 //! costs a fraction as much, and on other GPUs it goes through the texture cache.
 //!

@@ -361,7 +361,7 @@ fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), Stri
                 "'{name}' is a uniform block provided by the framework; declare the binding var<uniform>, not {kind}"
             )),
             (ProvidedKind::StorageBuffer, _) => Err(format!(
-                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read> or, for its bytes as 16-byte texels, texture_2d<u32>; not {kind}"
+                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read> or, for its bytes as 16-byte texels, texture_storage_2d<rgba32uint, read> (as the readers in shaders/lib/scene.wgsl take it) or texture_2d<u32>; not {kind}"
             )),
         },
         (ResourceKind::Buffer { .. }, BindingKind::StorageTexture { .. })

@@ -39,13 +39,29 @@ pub struct RenderSettings {
     pub set: Vec<String>,
     /// Adapter name filter; `None` takes the default adapter.
     pub adapter: Option<String>,
-    /// The accumulation stops here (the seed's 1000); later frames cost nothing.
+    /// The accumulation stops here (the lab report's 1000); later frames cost nothing.
     pub max_frames: u32,
 }
 
 impl RenderSettings {
-    /// The seed's accumulation limit.
+    /// The lab report's accumulation limit.
     pub const DEFAULT_MAX_FRAMES: u32 = 1000;
+    /// The CLI's default image size.
+    pub const DEFAULT_SIZE: [u32; 2] = [256, 256];
+
+    /// `graph` on `scene` with the CLI's defaults: 256x256, seed 0, no `--set`, the default
+    /// adapter, [`Self::DEFAULT_MAX_FRAMES`]. Change fields with struct update syntax.
+    pub fn new(graph: impl Into<PathBuf>, scene: impl Into<PathBuf>) -> RenderSettings {
+        RenderSettings {
+            graph: graph.into(),
+            scene: scene.into(),
+            size: Self::DEFAULT_SIZE,
+            seed: 0,
+            set: Vec::new(),
+            adapter: None,
+            max_frames: Self::DEFAULT_MAX_FRAMES,
+        }
+    }
 }
 
 /// The result buffer's name and the dropped-sample counter's, as the path tracer graph

@@ -1,7 +1,11 @@
-//! Test support: a scratch copy of the fixtures that a test may edit without touching others,
-//! and (in `render`) sessions of the shipped graphs.
+//! Test support, one module for every test: the repository's root, a scratch copy of the
+//! fixtures that a test may edit without touching others, sessions and images (`render`),
+//! statistics over seeds (`stats`), meshes and scene files (`geometry`), and
+//! `shaders/lib/bvh.wgsl` run on the GPU (`bvh_gpu`). Each test uses part of it.
 #![allow(dead_code, clippy::result_large_err)]
 
+pub mod bvh_gpu;
+pub mod geometry;
 pub mod render;
 pub mod stats;
 
@@ -10,8 +14,13 @@ use std::path::{Path, PathBuf};
 
 pub const SIZE: [u32; 2] = [256, 256];
 
+/// The repository (paths in tests are relative to it).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
 pub fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+    root().join("tests/fixtures")
 }
 
 /// Compiles a fixture graph in place (for graphs tests do not edit).

@@ -1,24 +1,28 @@
-//! Test support: sessions of the shipped graphs and scenes on the GPU (lavapipe in CI).
+//! Sessions of graphs and scenes on the GPU (lavapipe in CI), and checks on their images.
 
+// Also importable from here, as render tests have done.
+pub use super::root;
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
 use passgraph::render::session::{RenderSettings, Session};
 use std::path::Path;
 
-pub fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+/// The shipped path tracer graph, relative to the repository.
+pub const PATHTRACER: &str = "graphs/pathtracer.ron";
 
-/// A square render of `scene` with `graph` (both relative to the repository).
-pub fn settings(graph: &str, scene: &str, size: u32, seed: u32, set: &[&str]) -> RenderSettings {
+/// A square render of `scene` with `graph` (relative to the repository, or absolute).
+pub fn settings(
+    graph: impl AsRef<Path>,
+    scene: impl AsRef<Path>,
+    size: u32,
+    seed: u32,
+    set: &[&str],
+) -> RenderSettings {
     RenderSettings {
-        graph: root().join(graph),
-        scene: root().join(scene),
         size: [size, size],
         seed,
         set: set.iter().map(|s| s.to_string()).collect(),
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
+        ..RenderSettings::new(root().join(graph), root().join(scene))
     }
 }
 
@@ -31,9 +35,35 @@ pub fn render(s: &RenderSettings, frames: u32) -> Session {
     session
 }
 
+/// `frames` frames of `scene` with the path tracer graph.
+pub fn render_scene(scene: &Path, size: u32, seed: u32, frames: u32) -> Session {
+    render(&settings(PATHTRACER, scene, size, seed, &[]), frames)
+}
+
 /// One channel selection (e.g. `l0+direct+indirect`, `denoised`) as an image.
 pub fn image(session: &Session, channel: &str) -> RgbImage {
     session
         .image(&channel.parse::<ChannelSelection>().unwrap())
         .unwrap_or_else(|e| panic!("{channel}: {e}"))
+}
+
+/// Asserts every value of the result buffer is finite, every pixel has `frames` samples and
+/// nothing was dropped.
+pub fn assert_clean(session: &Session, frames: u32, what: &str) {
+    let result = session.result().unwrap();
+    assert!(
+        result.iter().flatten().all(|v| v.is_finite()),
+        "{what}: non-finite value in the result"
+    );
+    assert!(
+        result.iter().all(|p| p[3] == frames as f32),
+        "{what}: a pixel lost samples"
+    );
+    assert_eq!(session.dropped().unwrap(), 0, "{what}: dropped samples");
+}
+
+/// Mean over pixels and components.
+pub fn mean(img: &RgbImage) -> f64 {
+    let m = img.mean();
+    (m[0] + m[1] + m[2]) / 3.0
 }

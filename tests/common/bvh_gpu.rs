@@ -1,18 +1,14 @@
 //! The harness that runs `shaders/lib/bvh.wgsl` on a GPU (lavapipe in CI) through
 //! `tests/data/scenes/bvh_check.wgsl`, and the comparison of its answers with the CPU traversal.
 //! Shared by tests/bvh_wgsl.rs and the tests/robust_*.rs suites.
-#![allow(dead_code)]
 
+use super::root;
 use glam::Vec3;
+use passgraph::gpu::GpuContext;
 use passgraph::gpu::texels::create_texel_view;
 use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::intersect::{PreparedRay, intersect_triangle};
 use passgraph::scene::{Ray, SceneGpu};
-use std::path::PathBuf;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// bvh_check.wgsl with its includes resolved.
 pub fn check_shader() -> ShaderSource {
@@ -66,16 +62,14 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
 }
 
-/// The GPU these tests need; without one they fail (CI installs lavapipe) rather than skip.
+/// The GPU these tests need, chosen as the binary chooses it; without one they fail with the
+/// binary's message saying what to install, rather than skip.
 pub fn gpu() -> Gpu {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let adapter =
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .expect("no GPU adapter: install mesa-vulkan-drivers for lavapipe");
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
-            .expect("the adapter gives a device");
-    Gpu { device, queue }
+    let ctx = GpuContext::new(None).unwrap_or_else(|e| panic!("{e}"));
+    Gpu {
+        device: ctx.device().clone(),
+        queue: ctx.queue().clone(),
+    }
 }
 
 /// Runs bvh_check.wgsl over `queries` against `scene`.

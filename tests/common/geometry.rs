@@ -1,20 +1,10 @@
-//! Support for the robustness suites (tests/robust_*.rs): a deterministic generator, closed
-//! meshes, scene files written to a temporary folder, renders and image statistics.
-#![allow(dead_code)]
-
-pub mod bvh_gpu;
+//! Geometry for the robustness suites: a deterministic generator, closed meshes, and scene
+//! files (OBJ, MTL, RON) written to a folder.
 
 use glam::Vec3;
-use passgraph::render::channels::ChannelSelection;
-use passgraph::render::image::RgbImage;
-use passgraph::render::session::{RenderSettings, Session};
 use std::collections::HashMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-
-pub fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// A small deterministic generator (SplitMix64), so failures reproduce.
 pub struct Rng(pub u64);
@@ -284,66 +274,4 @@ impl ObjWriter {
         std::fs::write(&path, scene).unwrap();
         path
     }
-}
-
-pub fn settings(
-    graph: &Path,
-    scene: &Path,
-    size: u32,
-    seed: u32,
-    set: &[String],
-) -> RenderSettings {
-    RenderSettings {
-        graph: graph.to_path_buf(),
-        scene: scene.to_path_buf(),
-        size: [size, size],
-        seed,
-        set: set.to_vec(),
-        adapter: None,
-        max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
-    }
-}
-
-pub fn pathtracer() -> PathBuf {
-    root().join("graphs/pathtracer.ron")
-}
-
-/// Renders `frames` frames with the path tracer graph.
-pub fn render(scene: &Path, size: u32, seed: u32, frames: u32) -> Session {
-    render_with(&settings(&pathtracer(), scene, size, seed, &[]), frames)
-}
-
-pub fn render_with(settings: &RenderSettings, frames: u32) -> Session {
-    let mut session = Session::new(settings).unwrap_or_else(|e| panic!("session: {e}"));
-    for _ in 0..frames {
-        assert!(session.render_frame().unwrap());
-    }
-    session
-}
-
-pub fn channel(session: &Session, c: &str) -> RgbImage {
-    session
-        .image(&c.parse::<ChannelSelection>().unwrap())
-        .unwrap()
-}
-
-/// Asserts every value of the result buffer is finite, every pixel has `frames` samples and
-/// nothing was dropped.
-pub fn assert_clean(session: &Session, frames: u32, what: &str) {
-    let result = session.result().unwrap();
-    assert!(
-        result.iter().flatten().all(|v| v.is_finite()),
-        "{what}: non-finite value in the result"
-    );
-    assert!(
-        result.iter().all(|p| p[3] == frames as f32),
-        "{what}: a pixel lost samples"
-    );
-    assert_eq!(session.dropped().unwrap(), 0, "{what}: dropped samples");
-}
-
-/// Mean over pixels and components.
-pub fn mean(img: &RgbImage) -> f64 {
-    let m = img.mean();
-    (m[0] + m[1] + m[2]) / 3.0
 }
