@@ -97,7 +97,8 @@ struct RenderArgs {
     /// Output image: .png (sRGB, clamped) or .exr (linear float32). Repeatable.
     #[arg(long = "out", default_value = "render.png")]
     out: Vec<PathBuf>,
-    /// Use the first adapter whose name contains this (also env PASSGRAPH_ADAPTER).
+    /// Use the first adapter whose printed line (name, backend, driver, e.g. "llvmpipe",
+    /// "vulkan", "mesa 25") contains this, ignoring case (also env PASSGRAPH_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
     /// A linear EXR of the same size to report the error against (RMSE, relMSE, bias).
@@ -293,6 +294,12 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
         eprintln!("bench {label} ...");
         let r =
             run::run(label, &settings, channel, &reference, budget).map_err(|e| e.to_string())?;
+        if runs
+            .last()
+            .is_none_or(|p: &run::Run| p.adapter != r.adapter)
+        {
+            eprintln!("adapter: {}", r.adapter);
+        }
         report::write_text(&args.out.join(format!("{label}.csv")), &report::run_csv(&r))?;
         runs.push(r);
     }
@@ -411,7 +418,7 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         + size_of_val(scene.materials.as_slice())
         + size_of_val(scene.lights.as_slice())
         + size_of_val(scene.nodes.as_slice());
-    eprintln!("adapter: {} ({:?})", info.name, info.backend);
+    eprintln!("adapter: {}", passgraph::gpu::context::describe(info));
     eprintln!(
         "scene: {} triangles ({} degenerate), {} lights; BVH {} nodes, depth {}, built in {:.1} ms; {} bytes on the GPU ({:.1} per triangle)",
         bvh.triangle_count,

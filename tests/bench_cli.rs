@@ -1,5 +1,8 @@
 //! `passgraph bench` end to end on a tiny image: CSV per variant, chart and report.
 
+mod common;
+
+use common::root;
 use passgraph::bench::metrics::downsample_2x;
 use passgraph::render::image::RgbImage;
 use std::path::Path;
@@ -7,7 +10,7 @@ use std::process::Command;
 
 #[test]
 fn bench_writes_csv_chart_and_report_for_each_variant() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let dir = tempfile::tempdir().unwrap();
     // A 32x32 reference: the 128x128 Mitsuba render averaged down twice (box filter).
     let reference =
@@ -65,13 +68,25 @@ fn bench_writes_csv_chart_and_report_for_each_variant() {
     let last = |csv: &str| relmse(csv.lines().last().unwrap());
     assert!(last(&denoised_csv) < last(&csv), "{denoised_csv}\n{csv}");
     assert!(report.contains("Mitsuba 3"), "{report}");
+    // The adapter with its driver and version, in the report and on stderr.
+    let ctx = passgraph::gpu::GpuContext::new(None).unwrap();
+    let adapter = passgraph::gpu::context::describe(ctx.adapter_info());
+    assert!(
+        report.starts_with(&format!("Adapter: {adapter}\n")),
+        "{report}"
+    );
+    let stderr = String::from_utf8_lossy(&status.stderr);
+    assert!(
+        stderr.contains(&format!("adapter: {adapter}\n")),
+        "{stderr}"
+    );
     let chart = image::open(out.join("error-vs-time.png")).unwrap();
     assert_eq!((chart.width(), chart.height()), (900, 600));
 }
 
 #[test]
 fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let dir = tempfile::tempdir().unwrap();
     let reference =
         RgbImage::read_exr(&root.join("tests/data/references/cornell-128-depth3.exr")).unwrap();
@@ -205,7 +220,7 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
 
 #[test]
 fn bench_refuses_a_reference_of_another_size() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let out = Command::new(env!("CARGO_BIN_EXE_passgraph"))
         .args(["bench", "--size", "64x64", "--frames", "1", "--reference"])
         .arg(root.join("tests/data/references/cornell-128-depth3.exr"))

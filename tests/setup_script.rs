@@ -3,7 +3,9 @@
 //! sources in a temporary apt folder (`PASSGRAPH_APT_DIR`), through `--backports-entry`, which
 //! prints the entry and changes nothing.
 
-use std::path::Path;
+mod common;
+
+use common::root;
 use std::process::Command;
 
 /// Runs `scripts/setup --backports-entry bookworm` on an apt folder holding `files`.
@@ -14,7 +16,7 @@ fn backports_entry(files: &[(&str, &str)]) -> (bool, String, String) {
         std::fs::write(apt.path().join(name), text).unwrap();
     }
     let out = Command::new("bash")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/setup"))
+        .arg(root().join("scripts/setup"))
         .args(["--backports-entry", "bookworm"])
         .env("PASSGRAPH_APT_DIR", apt.path())
         .output()
@@ -177,7 +179,7 @@ fn no_debian_entry_is_an_error_naming_the_apt_folder() {
 #[test]
 fn an_unknown_argument_is_a_usage_error() {
     let out = Command::new("bash")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/setup"))
+        .arg(root().join("scripts/setup"))
         .arg("--frobnicate")
         .output()
         .unwrap();
@@ -190,7 +192,7 @@ fn an_unknown_argument_is_a_usage_error() {
 /// set-up and the README's test command as written there.
 #[test]
 fn readme_and_ci_run_the_same_setup_and_test_command() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let block = readme
         .split("```sh\n")

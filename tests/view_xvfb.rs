@@ -1,6 +1,6 @@
 //! `passgraph view` in a real window: under Xvfb (a virtual X server), a script switches the
 //! channel, flies forward and takes screenshots of what the window shows; the screenshots must
-//! show the Cornell box. Needs Debian's `xvfb` (installed by .ci/run) and lavapipe.
+//! show the Cornell box. Needs Xvfb and lavapipe (scripts/setup installs both).
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -18,7 +18,7 @@ impl Xvfb {
             .is_some_and(|path| std::env::split_paths(&path).any(|dir| dir.join("Xvfb").is_file()));
         assert!(
             on_path,
-            "Xvfb is not installed; the viewer test needs a virtual X server: apt-get install -y xvfb"
+            "Xvfb is not installed; the viewer test needs a virtual X server: run scripts/setup"
         );
         // -displayfd makes Xvfb choose a free display itself and print its number on stdout
         // once it accepts connections: no guessed numbers, no race with its start.
@@ -136,6 +136,13 @@ fn viewer_under_xvfb_shows_the_cornell_box_and_follows_scripted_input() {
     assert!(
         stderr.contains("view: 32 frames"),
         "the script quits in frame 32 (--frames 400 is only a backstop):\n{stderr}"
+    );
+    // The adapter with its driver and version, as render and bench print it.
+    let info = passgraph::gpu::GpuContext::new(None).unwrap();
+    let adapter = passgraph::gpu::context::describe(info.adapter_info());
+    assert!(
+        stderr.contains(&format!("adapter: {adapter}; surface")),
+        "{adapter}\n{stderr}"
     );
 
     let sum = screenshot(&shot("sum.png"));

@@ -52,6 +52,17 @@ pub const EQUAL_ERRORS: [f64; 7] = [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5];
 /// errors (passgraph runs and the extra series), and GPU milliseconds per pass.
 pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
     let mut out = String::new();
+    // Speed depends on the driver as much as on the graph (Mesa 25's lavapipe is ~25 % faster
+    // than 22.3's), so the report names it.
+    let mut adapters: Vec<&str> = Vec::new();
+    for r in runs {
+        if !r.adapter.is_empty() && !adapters.contains(&r.adapter.as_str()) {
+            adapters.push(&r.adapter);
+        }
+    }
+    if !adapters.is_empty() {
+        let _ = writeln!(out, "Adapter: {}\n", adapters.join("; "));
+    }
     let all: Vec<Series> = runs
         .iter()
         .map(Series::from_run)

@@ -130,6 +130,7 @@ fn combine_runs(runs: &[&Run]) -> Run {
         .collect();
     Run {
         label: runs[0].label.clone(),
+        adapter: runs[0].adapter.clone(),
         pass_names: runs[0].pass_names.clone(),
         checkpoints,
         rays_per_frame: median(runs.iter().filter_map(|r| r.rays_per_frame).collect()),
@@ -145,6 +146,7 @@ mod tests {
     fn run(label: &str, points: &[(u32, f64)]) -> Run {
         Run {
             label: label.into(),
+            adapter: "llvmpipe (Vulkan) · llvmpipe, Mesa 25.0.7".into(),
             pass_names: vec!["a".into()],
             checkpoints: points
                 .iter()

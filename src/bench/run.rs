@@ -3,6 +3,7 @@
 //! the clock, then reads back and measures.
 
 use super::metrics::{ImageError, image_error};
+use crate::gpu::context::describe;
 use crate::render::channels::ChannelSelection;
 use crate::render::image::RgbImage;
 use crate::render::session::{RenderError, RenderSettings, Session};
@@ -29,6 +30,10 @@ pub struct Checkpoint {
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Run {
     pub label: String,
+    /// The adapter with its driver and version ([`crate::gpu::context::describe`]); empty in
+    /// runs files written before it was recorded.
+    #[serde(default)]
+    pub adapter: String,
     pub pass_names: Vec<String>,
     pub checkpoints: Vec<Checkpoint>,
     /// Rays per frame as the passes counted them; `None` if no pass counts.
@@ -123,6 +128,7 @@ pub fn run(
     let counted = session.rays_counted()?;
     Ok(Run {
         label: label.to_string(),
+        adapter: describe(session.context().adapter_info()),
         pass_names,
         rays_per_frame: counted.map(|c| c as f64 / f64::from(frames.max(1))),
         cpu_ms_per_frame: submitting.as_secs_f64() * 1e3 / f64::from(frames.max(1)),

@@ -4,8 +4,8 @@
 use crate::graph::error::list;
 use thiserror::Error;
 
-/// What to tell a user whose machine exposes no adapter at all.
-pub const NO_ADAPTER_HINT: &str = "no GPU adapter found; on Debian/Ubuntu install Mesa's software Vulkan driver: apt-get install -y mesa-vulkan-drivers";
+/// What to tell a user whose machine exposes no adapter passgraph can use.
+pub const NO_ADAPTER_HINT: &str = "no Vulkan adapter found (passgraph runs on Vulkan, Metal or DX12, not on wgpu's GL backend, whose translation of its shaders Mesa's GL rejects); install Mesa's software Vulkan driver (lavapipe): scripts/setup, or on Debian 12 apt-get install -t bookworm-backports mesa-vulkan-drivers (elsewhere apt-get install mesa-vulkan-drivers)";
 
 #[derive(Debug, Error)]
 pub enum GpuError {
@@ -21,13 +21,21 @@ pub enum GpuError {
     NoAdapter,
 
     #[error(
-        "no GPU adapter's name contains '{filter}' (adapters: {})",
+        "WGPU_BACKEND='{value}' names no backend passgraph runs on (vulkan, metal, dx12); wgpu's GL backend cannot run its shaders: unset WGPU_BACKEND or set it to vulkan"
+    )]
+    UnsupportedBackend { value: String },
+
+    #[error(
+        "no adapter's description contains '{filter}' (adapters: {}); GL adapters are never used",
         list(available)
     )]
     NoMatchingAdapter {
         filter: String,
         available: Vec<String>,
     },
+
+    #[error("no adapter can present to the window (adapters: {})", list(available))]
+    NoPresentingAdapter { available: Vec<String> },
 
     #[error("adapter '{adapter}' refused to create a device: {source}")]
     RequestDevice {

@@ -9,6 +9,7 @@ use super::present::{Presenter, capturable};
 use super::reload::{ReloadOutcome, Reloader};
 use super::script::{Script, ScriptFrame};
 use crate::gpu::GpuContext;
+use crate::gpu::context::{backends as passgraph_backends, describe};
 use crate::render::channels::ChannelSelection;
 use crate::render::session::Session;
 use crate::scene::CameraDesc;
@@ -251,12 +252,12 @@ impl Viewer {
             )
             .map_err(|e| format!("cannot create a window: {e}"))?;
         let window = Arc::new(window);
-        let instance = wgpu::Instance::new(
-            wgpu::InstanceDescriptor::new_with_display_handle(Box::new(
-                event_loop.owned_display_handle(),
-            ))
-            .with_env(),
-        );
+        let mut descriptor = wgpu::InstanceDescriptor::new_with_display_handle(Box::new(
+            event_loop.owned_display_handle(),
+        ))
+        .with_env();
+        descriptor.backends = passgraph_backends().map_err(|e| e.to_string())?;
+        let instance = wgpu::Instance::new(descriptor);
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| format!("cannot draw into the window: {e}"))?;
@@ -287,9 +288,8 @@ impl Viewer {
         let (reloader, session) = Reloader::new(ctx.clone(), settings.clone())?;
         let info = ctx.adapter_info();
         eprintln!(
-            "adapter: {} ({:?}); surface {:?}; watching {} files for changes",
-            info.name,
-            info.backend,
+            "adapter: {}; surface {:?}; watching {} files for changes",
+            describe(info),
             format,
             reloader.watched_files().count()
         );
