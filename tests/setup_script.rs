@@ -1,7 +1,8 @@
 //! `scripts/setup` derives the bookworm-backports entry it adds from the machine's own apt
 //! sources (the archive address and keyring of its Debian entry). Here on copies of typical
 //! sources in a temporary apt folder (`PASSGRAPH_APT_DIR`), through `--backports-entry`, which
-//! prints the entry and changes nothing.
+//! prints the entry and changes nothing; and what it decides to install, through `--dry-run`
+//! with a stand-in `dpkg-query` and release (`PASSGRAPH_OS_RELEASE`).
 
 mod common;
 
@@ -219,4 +220,129 @@ fn readme_and_ci_run_the_same_setup_and_test_command() {
         ci_lines.contains(&"cargo clippy --all-targets --locked -- -D warnings"),
         "{ci}"
     );
+}
+
+/// Every package the set-up looks for, as `dpkg-query` lists it when installed.
+const ALL_PRESENT: [(&str, &str); 8] = [
+    ("mesa-vulkan-drivers:amd64", "25.0.7-2~bpo12+1"),
+    ("fonts-dejavu-core", "2.37-6"),
+    ("xvfb", "2:21.1.7-3+deb12u13"),
+    ("libx11-6:amd64", "2:1.8.4-2+deb12u2"),
+    ("libx11-xcb1:amd64", "2:1.8.4-2+deb12u2"),
+    ("libxcursor1:amd64", "1:1.2.1-1"),
+    ("libxi6:amd64", "2:1.8-1+b1"),
+    ("libxkbcommon-x11-0:amd64", "1.5.0-1"),
+];
+
+/// `scripts/setup --dry-run` on release `codename` with `installed` packages (a stand-in
+/// `dpkg-query` lists them) and the apt `sources`: what it would write and run.
+fn dry_run(codename: &str, installed: &[(&str, &str)], sources: &[(&str, &str)]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let listing: String = installed
+        .iter()
+        .map(|(name, version)| format!("{name} ii  {version}\n"))
+        .collect();
+    let query = bin.join("dpkg-query");
+    std::fs::write(&query, format!("#!/bin/sh\ncat <<'END'\n{listing}END\n")).unwrap();
+    let mut permissions = std::fs::metadata(&query).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
+    std::fs::set_permissions(&query, permissions).unwrap();
+    let apt = dir.path().join("apt");
+    std::fs::create_dir_all(apt.join("sources.list.d")).unwrap();
+    for (name, text) in sources {
+        std::fs::write(apt.join(name), text).unwrap();
+    }
+    let os_release = dir.path().join("os-release");
+    std::fs::write(
+        &os_release,
+        format!("ID=debian\nVERSION_CODENAME={codename}\n"),
+    )
+    .unwrap();
+    let path = std::env::join_paths(
+        std::iter::once(bin).chain(std::env::split_paths(&std::env::var_os("PATH").unwrap())),
+    )
+    .unwrap();
+    let out = Command::new("bash")
+        .arg(root().join("scripts/setup"))
+        .arg("--dry-run")
+        .env("PATH", path)
+        .env("PASSGRAPH_APT_DIR", &apt)
+        .env("PASSGRAPH_OS_RELEASE", &os_release)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    stdout.replace(apt.to_str().unwrap(), "APT") + &stderr
+}
+
+#[test]
+fn with_everything_present_it_runs_no_apt_at_all() {
+    let out = dry_run(
+        "bookworm",
+        &ALL_PRESENT,
+        &[("sources.list.d/debian.sources", DEBIAN_SOURCES)],
+    );
+    assert_eq!(
+        out,
+        "setup: nothing to install (mesa-vulkan-drivers 25.0.7-2~bpo12+1)\n"
+    );
+}
+
+#[test]
+fn bookworms_own_mesa_is_upgraded_from_a_backports_entry_it_adds() {
+    let mut installed = ALL_PRESENT;
+    installed[0].1 = "22.3.6-1+deb12u2";
+    let out = dry_run(
+        "bookworm",
+        &installed,
+        &[("sources.list.d/debian.sources", DEBIAN_SOURCES)],
+    );
+    let apt = "env DEBIAN_FRONTEND=noninteractive apt-get";
+    for part in [
+        "would write APT/sources.list.d/passgraph-backports.sources:\n",
+        "URIs: http://deb.debian.org/debian\nSuites: bookworm-backports\n",
+        &format!("would run: {apt} update -qq\n"),
+        &format!(
+            "would run: {apt} install -y -qq --no-install-recommends -t bookworm-backports mesa-vulkan-drivers\n"
+        ),
+    ] {
+        assert!(out.contains(part), "{part:?} missing from:\n{out}");
+    }
+    assert_eq!(out.matches(" install ").count(), 1, "only Mesa:\n{out}");
+}
+
+#[test]
+fn a_fresh_bookworm_gets_mesa_from_backports_and_the_rest_from_its_release() {
+    let out = dry_run(
+        "bookworm",
+        &[],
+        &[
+            ("sources.list.d/debian.sources", DEBIAN_SOURCES),
+            (
+                "sources.list.d/backports.list",
+                "deb http://deb.debian.org/debian bookworm-backports main\n",
+            ),
+        ],
+    );
+    assert!(!out.contains("would write"), "backports is there:\n{out}");
+    assert!(
+        out.contains("-t bookworm-backports mesa-vulkan-drivers\n")
+            && out.contains(
+                "install -y -qq --no-install-recommends fonts-dejavu-core xvfb libx11-6 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0"
+            ),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_newer_release_takes_mesa_from_its_own_suite() {
+    let out = dry_run("trixie", &ALL_PRESENT[1..], &[]);
+    assert!(
+        out.contains("install -y -qq --no-install-recommends mesa-vulkan-drivers\n"),
+        "{out}"
+    );
+    assert!(!out.contains("backports"), "{out}");
 }
