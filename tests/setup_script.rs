@@ -234,48 +234,106 @@ const ALL_PRESENT: [(&str, &str); 8] = [
     ("libxkbcommon-x11-0:amd64", "1.5.0-1"),
 ];
 
-/// `scripts/setup --dry-run` on release `codename` with `installed` packages (a stand-in
-/// `dpkg-query` lists them) and the apt `sources`: what it would write and run.
-fn dry_run(codename: &str, installed: &[(&str, &str)], sources: &[(&str, &str)]) -> String {
-    let dir = tempfile::tempdir().unwrap();
-    let bin = dir.path().join("bin");
-    std::fs::create_dir(&bin).unwrap();
-    let listing: String = installed
-        .iter()
-        .map(|(name, version)| format!("{name} ii  {version}\n"))
-        .collect();
-    let query = bin.join("dpkg-query");
-    std::fs::write(&query, format!("#!/bin/sh\ncat <<'END'\n{listing}END\n")).unwrap();
-    let mut permissions = std::fs::metadata(&query).unwrap().permissions();
-    std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
-    std::fs::set_permissions(&query, permissions).unwrap();
-    let apt = dir.path().join("apt");
-    std::fs::create_dir_all(apt.join("sources.list.d")).unwrap();
-    for (name, text) in sources {
-        std::fs::write(apt.join(name), text).unwrap();
-    }
-    let os_release = dir.path().join("os-release");
-    std::fs::write(
-        &os_release,
-        format!("ID=debian\nVERSION_CODENAME={codename}\n"),
-    )
-    .unwrap();
-    let path = std::env::join_paths(
-        std::iter::once(bin).chain(std::env::split_paths(&std::env::var_os("PATH").unwrap())),
-    )
-    .unwrap();
-    let out = Command::new("bash")
-        .arg(root().join("scripts/setup"))
-        .arg("--dry-run")
-        .env("PATH", path)
-        .env("PASSGRAPH_APT_DIR", &apt)
-        .env("PASSGRAPH_OS_RELEASE", &os_release)
-        .output()
+/// A machine for `scripts/setup`: release `codename`, `installed` packages (a stand-in
+/// `dpkg-query` lists them), the apt `sources`, and stand-ins for `apt-get` (it logs its
+/// arguments and exits with `apt_exit`) and `sudo`.
+struct Machine {
+    dir: tempfile::TempDir,
+}
+
+impl Machine {
+    fn new(
+        codename: &str,
+        installed: &[(&str, &str)],
+        sources: &[(&str, &str)],
+        apt_exit: i32,
+    ) -> Machine {
+        let dir = tempfile::tempdir().unwrap();
+        let bin = dir.path().join("bin");
+        std::fs::create_dir(&bin).unwrap();
+        let listing: String = installed
+            .iter()
+            .map(|(name, version)| format!("{name} ii  {version}\n"))
+            .collect();
+        let log = dir.path().join("apt-get.log");
+        for (name, script) in [
+            (
+                "dpkg-query",
+                format!("#!/bin/sh\ncat <<'END'\n{listing}END\n"),
+            ),
+            (
+                "apt-get",
+                format!(
+                    "#!/bin/sh\necho \"$*\" >> '{}'\nexit {apt_exit}\n",
+                    log.display()
+                ),
+            ),
+            ("sudo", "#!/bin/sh\nexec \"$@\"\n".to_string()),
+        ] {
+            let path = bin.join(name);
+            std::fs::write(&path, script).unwrap();
+            let mut permissions = std::fs::metadata(&path).unwrap().permissions();
+            std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
+            std::fs::set_permissions(&path, permissions).unwrap();
+        }
+        let apt = dir.path().join("apt");
+        std::fs::create_dir_all(apt.join("sources.list.d")).unwrap();
+        for (name, text) in sources {
+            std::fs::write(apt.join(name), text).unwrap();
+        }
+        std::fs::write(
+            dir.path().join("os-release"),
+            format!("ID=debian\nVERSION_CODENAME={codename}\n"),
+        )
         .unwrap();
-    let stdout = String::from_utf8(out.stdout).unwrap();
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert!(out.status.success(), "{stdout}\n{stderr}");
-    stdout.replace(apt.to_str().unwrap(), "APT") + &stderr
+        Machine { dir }
+    }
+
+    /// Runs `scripts/setup` with `args`: success, and stdout then stderr with the apt folder
+    /// written as APT.
+    fn setup(&self, args: &[&str]) -> (bool, String) {
+        let d = self.dir.path();
+        let path = std::env::join_paths(
+            std::iter::once(d.join("bin"))
+                .chain(std::env::split_paths(&std::env::var_os("PATH").unwrap())),
+        )
+        .unwrap();
+        let out = Command::new("bash")
+            .arg(root().join("scripts/setup"))
+            .args(args)
+            .env("PATH", path)
+            .env("PASSGRAPH_APT_DIR", d.join("apt"))
+            .env("PASSGRAPH_OS_RELEASE", d.join("os-release"))
+            .output()
+            .unwrap();
+        let text = String::from_utf8(out.stdout).unwrap() + &String::from_utf8(out.stderr).unwrap();
+        (
+            out.status.success(),
+            text.replace(d.join("apt").to_str().unwrap(), "APT"),
+        )
+    }
+
+    /// What the stand-in apt-get was asked to do, one call a line.
+    fn apt_calls(&self) -> String {
+        std::fs::read_to_string(self.dir.path().join("apt-get.log")).unwrap_or_default()
+    }
+
+    fn added_entry(&self) -> Option<String> {
+        let path = self
+            .dir
+            .path()
+            .join("apt/sources.list.d/passgraph-backports.sources");
+        std::fs::read_to_string(path).ok()
+    }
+}
+
+/// `scripts/setup --dry-run` on a [`Machine`]: what it would write and run.
+fn dry_run(codename: &str, installed: &[(&str, &str)], sources: &[(&str, &str)]) -> String {
+    let machine = Machine::new(codename, installed, sources, 0);
+    let (ok, out) = machine.setup(&["--dry-run"]);
+    assert!(ok, "{out}");
+    assert_eq!(machine.apt_calls(), "", "a dry run runs no apt-get");
+    out
 }
 
 #[test]
@@ -345,4 +403,61 @@ fn a_newer_release_takes_mesa_from_its_own_suite() {
         "{out}"
     );
     assert!(!out.contains("backports"), "{out}");
+}
+
+#[test]
+fn an_unreachable_archive_keeps_bookworms_mesa_with_a_warning() {
+    let mut installed = ALL_PRESENT;
+    installed[0].1 = "22.3.6-1+deb12u2";
+    let sources = [("sources.list.d/debian.sources", DEBIAN_SOURCES)];
+    let machine = Machine::new("bookworm", &installed, &sources, 100);
+    let (ok, out) = machine.setup(&[]);
+    assert!(ok, "Mesa 22.3.6 works, only slower:\n{out}");
+    assert!(
+        out.contains("warning: apt-get update failed (after adding APT/sources.list.d/passgraph-backports.sources); keeping mesa-vulkan-drivers 22.3.6-1+deb12u2"),
+        "{out}"
+    );
+    assert!(
+        machine
+            .added_entry()
+            .is_some_and(|e| e.contains("Suites: bookworm-backports\n")),
+        "{out}"
+    );
+    assert_eq!(machine.apt_calls(), "update -qq\n");
+    // The entry is there now: a second run does not add it again.
+    let (ok, out) = machine.setup(&[]);
+    assert!(ok && !out.contains("adding"), "{out}");
+}
+
+#[test]
+fn a_missing_package_that_cannot_be_installed_is_an_error_naming_it() {
+    let machine = Machine::new(
+        "bookworm",
+        &ALL_PRESENT[..2],
+        &[("sources.list.d/debian.sources", DEBIAN_SOURCES)],
+        100,
+    );
+    let (ok, out) = machine.setup(&[]);
+    assert!(!ok, "{out}");
+    assert!(
+        out.contains("setup: error: apt-get update failed; still missing: xvfb libx11-6"),
+        "{out}"
+    );
+}
+
+#[test]
+fn it_installs_what_is_missing_through_apt_get() {
+    let machine = Machine::new(
+        "bookworm",
+        &ALL_PRESENT[..7],
+        &[("sources.list.d/debian.sources", DEBIAN_SOURCES)],
+        0,
+    );
+    let (ok, out) = machine.setup(&[]);
+    assert!(ok, "{out}");
+    assert_eq!(
+        machine.apt_calls(),
+        "update -qq\ninstall -y -qq --no-install-recommends libxkbcommon-x11-0\n"
+    );
+    assert_eq!(machine.added_entry(), None, "Mesa 25 is there");
 }
