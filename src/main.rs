@@ -278,6 +278,16 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
         (Some(s), _) => run::Budget::Seconds(s),
         (None, f) => run::Budget::Frames(f.unwrap_or(256)),
     };
+    // Every variant's graph, params and channel are checked before the first one renders.
+    for variant in &args.graphs {
+        let channel = variant.channel.as_ref().unwrap_or(&args.channel);
+        let mut graph = passgraph::load_graph(&variant.graph).map_err(|e| e.to_string())?;
+        for set in args.set.iter().chain(&variant.set) {
+            passgraph::graph::set_param::set_param(&mut graph, set).map_err(|e| e.to_string())?;
+        }
+        let plan = passgraph::compile(&graph, args.size).map_err(|e| e.to_string())?;
+        check_render_contract(&plan, channel).map_err(|e| format!("{}: {e}", variant.label))?;
+    }
     let mut runs = Vec::new();
     for variant in &args.graphs {
         let label = &variant.label;

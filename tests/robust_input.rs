@@ -4,13 +4,9 @@
 
 mod common;
 
-use common::{assert_mentions, copy_dir};
+use common::{assert_mentions, copy_dir, root};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// A private copy of the shipped graphs, passes, shaders and scenes that a test may edit.
 struct Project {
@@ -838,4 +834,42 @@ fn view_without_a_display_says_so_without_a_source_path() {
         !stderr.contains(".cargo") && !stderr.contains(".rs:"),
         "{stderr}"
     );
+}
+
+// 8. A bench variant's bad channel was found only after the variants before it had rendered.
+#[test]
+fn bench_checks_every_variant_before_rendering_any() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("ref.exr");
+    passgraph::render::image::RgbImage {
+        width: 16,
+        height: 16,
+        pixels: vec![[0.5; 3]; 256],
+    }
+    .write(&reference)
+    .unwrap();
+    let graph = root().join(GRAPH);
+    let graph = graph.to_str().unwrap();
+    let out = dir.path().join("bench");
+    fails(
+        &[
+            "bench",
+            "--reference",
+            reference.to_str().unwrap(),
+            "--size",
+            "16x16",
+            "--frames",
+            "1000000",
+            "--graph",
+            graph,
+            "--graph",
+            &format!("{graph}@nosuch"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        1,
+        &["'nosuch'"],
+    );
+    let written = std::fs::read_dir(&out).map_or(0, |d| d.count());
+    assert_eq!(written, 0, "nothing is rendered or written");
 }
