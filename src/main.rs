@@ -278,7 +278,12 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
         (Some(s), _) => run::Budget::Seconds(s),
         (None, f) => run::Budget::Frames(f.unwrap_or(256)),
     };
-    // Every variant's graph, params and channel are checked before the first one renders.
+    // The scene, and every variant's graph, params and channel, are checked before the first
+    // variant renders.
+    let scene = passgraph::scene::load_scene(&args.scene).map_err(|e| e.to_string())?;
+    for warning in &scene.mesh.warnings {
+        eprintln!("warning: {warning}");
+    }
     for variant in &args.graphs {
         let channel = variant.channel.as_ref().unwrap_or(&args.channel);
         let mut graph = passgraph::load_graph(&variant.graph).map_err(|e| e.to_string())?;
@@ -331,18 +336,34 @@ fn render_camera_path(
     segments: &[Segment],
     channel: &ChannelSelection,
 ) -> Result<Vec<PathError>, String> {
+    // Every reference is read and checked before the first frame.
+    let [w, h] = session.plan().output_size;
+    let mut references = Vec::with_capacity(segments.len());
+    for segment in segments {
+        references.push(match &segment.reference {
+            Some(path) => {
+                let image = RgbImage::read_exr(path)?;
+                if [image.width, image.height] != [w, h] {
+                    return Err(format!(
+                        "{}: the reference is {}x{} but --size is {w}x{h}",
+                        path.display(),
+                        image.width,
+                        image.height
+                    ));
+                }
+                Some((path, image))
+            }
+            None => None,
+        });
+    }
     let mut rows = Vec::new();
     let mut frame = 0;
-    for (i, segment) in segments.iter().enumerate() {
+    for (i, (segment, reference)) in segments.iter().zip(&references).enumerate() {
         if segment.camera != session.scene_description().camera {
             session
                 .set_camera(segment.camera)
                 .map_err(|e| e.to_string())?;
         }
-        let reference = match &segment.reference {
-            Some(path) => Some((path, RgbImage::read_exr(path)?)),
-            None => None,
-        };
         for _ in 0..segment.frames {
             session.render_frame().map_err(|e| e.to_string())?;
             frame += 1;
@@ -421,6 +442,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         Some(path) => Some(load_camera_path(path, session.scene_description().camera)?),
         None => None,
     };
+    for warning in &session.scene_description().mesh.warnings {
+        eprintln!("warning: {warning}");
+    }
     let info = session.context().adapter_info();
     let scene = session.scene();
     let bvh = &scene.bvh;

@@ -699,24 +699,53 @@ fn scene_error(p: &Project, rel: &str) -> String {
     }
 }
 
-// 8. Triangles with 1e19 coordinates vanished silently (lost as degenerate).
+// 8. Triangles with 1e19 coordinates vanished silently (dropped as degenerate: their normal
+// overflows f32). They still are not rendered, but loading says so with the file and line.
 #[test]
-fn vertex_beyond_1e18_is_an_error_naming_file_and_line() {
+fn triangles_whose_normal_overflows_are_reported_with_file_and_line() {
     let p = Project::new();
     p.edit(
         OBJ,
         "usemtl white\nv 552.8 0.0 0.0\n",
         "usemtl white\nv 552.8 1e19 0.0\n",
     );
-    assert_mentions(&scene_error(&p, SCENE), &["cornell.obj:7:", "1e19", "1e18"]);
+    let scene = passgraph::scene::load_scene(&p.path(SCENE)).unwrap();
+    assert_eq!(scene.mesh.warnings.len(), 1, "{:?}", scene.mesh.warnings);
+    assert_mentions(
+        &scene.mesh.warnings[0],
+        &["cornell.obj:7:", "1e19", "overflows", "not rendered"],
+    );
+    // Through the command line, before the frames.
+    let out = passgraph(&[
+        "render",
+        "--scene",
+        &p.arg(SCENE),
+        "--frames",
+        "1",
+        "--size",
+        "8x8",
+        "--out",
+        &p.arg("x.png"),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert_mentions(&stderr, &["warning: ", "cornell.obj:7:", "not rendered"]);
+
     p.write(
         "scenes/cornell/tri.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
          property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
-         0 0 0\n1 -1e19 0\n0 1 0\n3 0 1 2\n",
+         0 0 0\n1e19 0 0\n0 -1e19 0\n3 0 1 2\n",
     );
     p.edit(SCENE, "cornell.obj", "tri.ply");
-    assert_mentions(&scene_error(&p, SCENE), &["tri.ply:11:", "-1e19", "1e18"]);
+    let scene = passgraph::scene::load_scene(&p.path(SCENE)).unwrap();
+    assert_mentions(
+        &scene.mesh.warnings.join("\n"),
+        &["tri.ply", "-1e19", "not rendered"],
+    );
+    // A shipped scene warns about nothing.
+    let shipped = passgraph::scene::load_scene(&root().join(SCENE)).unwrap();
+    assert!(shipped.mesh.warnings.is_empty());
 }
 
 // 9. PLY errors printed the parser's `ParseError { .. }` internals over several lines.
@@ -872,4 +901,38 @@ fn bench_checks_every_variant_before_rendering_any() {
     );
     let written = std::fs::read_dir(&out).map_or(0, |d| d.count());
     assert_eq!(written, 0, "nothing is rendered or written");
+}
+
+// 8. A camera path's reference was read only when its segment came, after earlier frames.
+#[test]
+fn camera_path_reference_of_another_size_is_refused_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    passgraph::render::image::RgbImage {
+        width: 8,
+        height: 8,
+        pixels: vec![[0.5; 3]; 64],
+    }
+    .write(&dir.path().join("small.exr"))
+    .unwrap();
+    let path = dir.path().join("path.ron");
+    std::fs::write(
+        &path,
+        "CameraPath([(frames: 1000000), (frames: 1, reference: \"small.exr\")])",
+    )
+    .unwrap();
+    let out = dir.path().join("x.png");
+    fails(
+        &[
+            "render",
+            "--camera-path",
+            path.to_str().unwrap(),
+            "--size",
+            "16x16",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        1,
+        &["small.exr", "8x8", "16x16"],
+    );
+    assert!(!out.exists());
 }

@@ -78,11 +78,6 @@ pub enum SceneError {
     NonFiniteVertex { at: Location, value: String },
 
     #[error(
-        "{at}: vertex coordinate {value:e} is beyond ±{max:e}, where the renderer's f32 arithmetic overflows; scale the mesh down"
-    )]
-    VertexOutOfRange { at: Location, value: f32, max: f32 },
-
-    #[error(
         "{at}: face refers to vertex {index}, but {vertex_count} vertices are defined (valid: {valid})"
     )]
     FaceIndexOutOfRange {

@@ -8,7 +8,7 @@
 
 use super::error::{Location, SceneError};
 use super::gpu::Material;
-use super::mesh::{DEFAULT_MATERIAL_NAME, MAX_COORDINATE, Mesh, MeshTriangle};
+use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use glam::Vec3;
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
@@ -200,13 +200,6 @@ fn check_vertex(path: &Path, line: usize, rest: &str) -> Result<(), SceneError> 
             value,
         });
     }
-    if let Some(&c) = position.iter().find(|c| c.abs() > MAX_COORDINATE) {
-        return Err(SceneError::VertexOutOfRange {
-            at: Location::line(path, line),
-            value: c,
-            max: MAX_COORDINATE,
-        });
-    }
     Ok(())
 }
 
@@ -356,6 +349,7 @@ fn load_checked(path: &Path, checked: &CheckedObj) -> Result<Mesh, SceneError> {
     let materials = materials.unwrap_or_default();
 
     let mut mesh = Mesh {
+        warnings: Vec::new(),
         path: path.to_path_buf(),
         triangles: Vec::new(),
         materials: materials.iter().map(convert_material).collect(),

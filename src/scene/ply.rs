@@ -6,7 +6,7 @@
 
 use super::error::{Location, SceneError};
 use super::gpu::Material;
-use super::mesh::{DEFAULT_MATERIAL_NAME, MAX_COORDINATE, Mesh, MeshTriangle, fan_triangulate};
+use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle, fan_triangulate};
 use glam::Vec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property};
@@ -54,13 +54,6 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
                 value: bad.to_string(),
             });
         }
-        if let Some(&c) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
-            return Err(SceneError::VertexOutOfRange {
-                at: places.locate("vertex", i),
-                value: c,
-                max: MAX_COORDINATE,
-            });
-        }
         positions.push(Vec3::from(p));
     }
 
@@ -101,6 +94,7 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
     }
 
     Ok(Mesh {
+        warnings: Vec::new(),
         path: path.to_path_buf(),
         triangles,
         materials: vec![Material::DEFAULT],
