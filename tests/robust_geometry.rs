@@ -395,9 +395,9 @@ fn degenerate_kinds() -> (Vec<[Vec3; 3]>, Vec<[Vec3; 3]>) {
         [p(1e6, 0.0, 0.0), p(-1e6, 0.0, 0.0), p(0.0, 0.0, 0.0)],
         // A normal too small to normalise on a GPU that flushes subnormals.
         [Vec3::ZERO, p(s, -s, 0.0), p(s, 0.0, -s)],
-        // A normal whose squared length overflows f32 (edges ~1e18, the largest coordinates
-        // the loader accepts).
-        [p(-1e18, -1e18, 0.0), p(1e18, -1e18, 0.0), p(0.0, 1e18, 0.0)],
+        // A normal whose squared length overflows f32 (edges ~1e19; loading such a mesh
+        // warns that it is not rendered).
+        [p(-1e19, -1e19, 0.0), p(1e19, -1e19, 0.0), p(0.0, 1e19, 0.0)],
     ];
     let mut valid = Vec::new();
     // Slivers at Cornell-box coordinates: sides ~2e-4 (about 7 ulps there), and a needle
