@@ -530,9 +530,20 @@ impl Viewer {
                     && !PathBuf::from(format!("{s}.exr")).exists()
             })
             .unwrap_or_else(|| "passgraph-view".into());
-        for ext in ["png", "exr"] {
-            let path = PathBuf::from(format!("{stem}.{ext}"));
-            image.write(&path)?;
+        // Both files as a set: written beside their targets, then renamed.
+        let paths = ["png", "exr"].map(|ext| PathBuf::from(format!("{stem}.{ext}")));
+        let encoded = paths
+            .iter()
+            .map(|p| image.encode_for(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        let files: Vec<(&Path, &[u8])> = paths
+            .iter()
+            .zip(&encoded)
+            .map(|(p, b)| (p.as_path(), b.as_slice()))
+            .collect();
+        crate::atomic_write::write_atomic_set(&files)
+            .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))?;
+        for path in &paths {
             println!(
                 "saved {} ({label}, {} frames)",
                 path.display(),
