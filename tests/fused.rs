@@ -4,8 +4,8 @@
 
 mod common;
 
-use common::render::{image as channel, render, root, settings};
-use common::stats::mean_over_seeds;
+use common::render::{image as channel, render, settings};
+use common::stats::{assert_unbiased, cornell_reference_mean};
 use passgraph::render::image::RgbImage;
 
 const CORNELL: &str = "scenes/cornell/scene.ron";
@@ -98,32 +98,13 @@ fn split_bounces_keep_the_expectation_on_the_furnace_and_the_cornell_box() {
     );
     for (name, expected) in [("indirect", 0.125), ("sum", 0.875)] {
         let images: Vec<_> = furnace.iter().map(|s| channel(s, name)).collect();
-        let (mean, se) = mean_over_seeds(&images);
-        // Five standard errors, and 1e-6 for f32 sums.
-        let bound = 5.0 * se[0] + 1e-6;
-        assert!(
-            (mean[0] - expected).abs() < bound,
-            "furnace {name}: mean {} expected {expected}, bound {bound}",
-            mean[0]
-        );
+        // 1e-6 for f32 sums.
+        assert_unbiased(&format!("furnace {name}"), &images, [expected; 3], 1e-6);
     }
-    let reference =
-        RgbImage::read_exr(&root().join("tests/data/references/cornell-128-depth3.exr")).unwrap();
-    let expected = reference.mean();
-    let cornell = renders("graphs/pathtracer-fast.ron", CORNELL, 32, &[]);
-    let images: Vec<_> = cornell
+    let (expected, slack) = cornell_reference_mean();
+    let images: Vec<_> = renders("graphs/pathtracer-fast.ron", CORNELL, 32, &[])
         .iter()
         .map(|s| channel(s, "l0+direct+indirect"))
         .collect();
-    let (mean, se) = mean_over_seeds(&images);
-    for k in 0..3 {
-        // The reference's own mean: its noise floor (RMSE 1e-3) over 128 pixels: 1e-5.
-        let bound = 5.0 * se[k] + 1e-5;
-        assert!(
-            (mean[k] - expected[k]).abs() < bound,
-            "Cornell, component {k}: mean {} reference {}, bound {bound}",
-            mean[k],
-            expected[k]
-        );
-    }
+    assert_unbiased("Cornell box, 8 bounces", &images, expected, slack);
 }

@@ -5,9 +5,8 @@
 
 mod common;
 
-use common::render::{image as channel, render, root, settings};
-use common::stats::mean_over_seeds;
-use passgraph::render::image::RgbImage;
+use common::render::{image as channel, render, settings};
+use common::stats::{assert_unbiased, cornell_reference_mean};
 
 const SAMPLES: usize = 256;
 const DIMS: usize = 4;
@@ -197,24 +196,15 @@ fn both_samplers_are_unbiased_on_the_furnace() {
             .collect();
         for (name, expected) in [("direct", 0.25), ("indirect", 0.125), ("sum", 0.875)] {
             let images: Vec<_> = renders.iter().map(|s| channel(s, name)).collect();
-            let (mean, se) = mean_over_seeds(&images);
-            // Five standard errors (a false failure once in ~1.7 million runs) and 1e-6 for
-            // f32 sums.
-            let bound = 5.0 * se[0] + 1e-6;
-            assert!(
-                (mean[0] - expected).abs() < bound,
-                "{set:?} {name}: mean {} expected {expected}, bound {bound}",
-                mean[0]
-            );
+            // 1e-6 for f32 sums.
+            assert_unbiased(&format!("{set:?} {name}"), &images, [expected; 3], 1e-6);
         }
     }
 }
 
 #[test]
 fn both_samplers_are_unbiased_on_the_cornell_box() {
-    let reference =
-        RgbImage::read_exr(&root().join("tests/data/references/cornell-128-depth3.exr")).unwrap();
-    let expected = reference.mean();
+    let (expected, slack) = cornell_reference_mean();
     for set in SAMPLER_SETS {
         let images: Vec<_> = (1..=8)
             .map(|seed| {
@@ -231,17 +221,6 @@ fn both_samplers_are_unbiased_on_the_cornell_box() {
                 channel(&s, "l0+direct+indirect")
             })
             .collect();
-        let (mean, se) = mean_over_seeds(&images);
-        for k in 0..3 {
-            // The reference's own mean is off by at most its per-pixel noise floor (RMSE 1e-3,
-            // tests/data/references/README.md) over sqrt(128 * 128) pixels: 1e-5.
-            let bound = 5.0 * se[k] + 1e-5;
-            assert!(
-                (mean[k] - expected[k]).abs() < bound,
-                "{set:?} component {k}: mean {} reference {}, bound {bound}",
-                mean[k],
-                expected[k]
-            );
-        }
+        assert_unbiased(&format!("{set:?}"), &images, expected, slack);
     }
 }

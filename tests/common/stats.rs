@@ -18,3 +18,28 @@ pub fn mean_over_seeds(images: &[RgbImage]) -> ([f64; 3], [f64; 3]) {
     }
     (mean, se)
 }
+
+/// Asserts that the mean over `images` (one per seed) matches `expected` in every component
+/// within five standard errors (a false failure once in ~1.7 million runs) plus `slack`, the
+/// uncertainty of `expected` itself.
+pub fn assert_unbiased(what: &str, images: &[RgbImage], expected: [f64; 3], slack: f64) {
+    let (mean, se) = mean_over_seeds(images);
+    for k in 0..3 {
+        let bound = 5.0 * se[k] + slack;
+        assert!(
+            (mean[k] - expected[k]).abs() < bound,
+            "{what}, component {k}: mean {} expected {}, bound {bound}",
+            mean[k],
+            expected[k]
+        );
+    }
+}
+
+/// The mean of the 128x128 Mitsuba reference of the Cornell box (l0+direct+indirect) and its
+/// uncertainty: the reference's per-pixel noise floor (RMSE 1e-3,
+/// tests/data/references/README.md) over sqrt(128 * 128) pixels, rounded up to 1e-5. The image
+/// mean does not depend on the resolution (box filter), so renders of any size compare with it.
+pub fn cornell_reference_mean() -> ([f64; 3], f64) {
+    let path = super::root().join("tests/data/references/cornell-128-depth3.exr");
+    (RgbImage::read_exr(&path).unwrap().mean(), 1e-5)
+}
