@@ -1,5 +1,6 @@
 // Ray queries against the threaded BVH: closest_hit and any_hit. src/scene/intersect.rs is the
-// CPU twin of this file's box and triangle tests, operation for operation; it visits the same
+// CPU twin of this file's box and triangle tests, operation for operation (but for the
+// triangle test's certain-miss shortcut, which cannot change an answer); it visits the same
 // nodes and triangles, with each leaf's triangles tested right away rather than interleaved with
 // node visits (bvh_step), which cannot change an answer: ties resolve by triangle index. Tests
 // hold both to a brute-force oracle.
@@ -142,6 +143,10 @@ fn bvh_difference_of_products(
 const BVH_GAMMA2: f32 = 1.192093e-7;
 const BVH_GAMMA3: f32 = 1.7881396e-7;
 const BVH_GAMMA5: f32 = 2.980233e-7;
+// 4 u (u = 2^-24), more than the relative error of a difference of two rounded products
+// (2 u (1 + u)), and 4x the smallest normal f32 for products flushed to zero.
+const BVH_SIGN_SLACK: f32 = 2.3841858e-7;
+const BVH_SIGN_TINY: f32 = 4.7019774e-38;
 
 // A bound on the rounding error of the triangle test's t (PBR 3rd ed., section 3.9.6, with the
 // unscaled depths max_z bounding the shear's error so that dir need not be normalised): a hit
@@ -176,6 +181,20 @@ fn bvh_intersect_triangle(
     let by = b[ray.ky] - s.y * b[ray.kz];
     let cx = c[ray.kx] - s.x * c[ray.kz];
     let cy = c[ray.ky] - s.y * c[ray.kz];
+
+    // A certain miss first, in plain f32: each edge function's sign is certain where its
+    // magnitude exceeds the bound on a product difference's rounding (with or without a fused
+    // multiply-add; BVH_SIGN_TINY covers products flushed to zero), and two certain opposite
+    // signs are a miss in the exact test below too. Most tests are misses, and skipping the
+    // exact arithmetic for them changes no answer.
+    let pu = vec2<f32>(cx * by, cy * bx);
+    let pv = vec2<f32>(ax * cy, ay * cx);
+    let pw = vec2<f32>(bx * ay, by * ax);
+    let e = vec3<f32>(pu.x - pu.y, pv.x - pv.y, pw.x - pw.y);
+    let bound = BVH_SIGN_SLACK * vec3<f32>(abs(pu.x) + abs(pu.y), abs(pv.x) + abs(pv.y), abs(pw.x) + abs(pw.y)) + BVH_SIGN_TINY;
+    if (any(e < -bound) && any(e > bound)) {
+        return result;
+    }
 
     // Scaled barycentrics: the signed areas spanned by the origin and each edge. Each
     // coordinate takes part in two of them: split once.
