@@ -54,6 +54,21 @@ fn passgraph(args: &[&str]) -> Output {
         .expect("the passgraph binary runs")
 }
 
+/// The arguments of a one-frame `render` of the copy `p` at `size`, with `input` (e.g.
+/// `["--graph", path]`) and output `x.png` in the copy.
+fn one_frame(p: &Project, input: [&str; 2], size: &str) -> Vec<String> {
+    let mut args = vec!["render".to_string(), input[0].into(), p.arg(input[1])];
+    for a in ["--frames", "1", "--size", size, "--out"] {
+        args.push(a.into());
+    }
+    args.push(p.arg("x.png"));
+    args
+}
+
+fn strs(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
+}
+
 /// Runs a command that must fail with `code`, a message on stderr mentioning `parts`, and no
 /// panic; returns stderr.
 fn fails(args: &[&str], code: i32, parts: &[&str]) -> String {
@@ -83,11 +98,8 @@ fn result_smaller_than_five_planes_is_rejected_by_check_and_render_without_panic
             1,
             &["pathtracer.ron", "'result'", "PerPixel(80)"],
         );
-        let out = p.arg("x.png");
         fails(
-            &[
-                "render", "--graph", &graph, "--frames", "1", "--size", "8x8", "--out", &out,
-            ],
+            &strs(&one_frame(&p, ["--graph", GRAPH], "8x8")),
             1,
             &["pathtracer.ron", "'result'"],
         );
@@ -575,22 +587,7 @@ fn sizes_past_2_to_the_64_bytes_are_errors_not_wrapped() {
 /// A render of the copy `p` that must stop before the first frame with `parts` in its message
 /// (and not wgpu's raw "Validation Error").
 fn over_limit(p: &Project, size: &str, parts: &[&str]) {
-    let out = p.arg("x.png");
-    let stderr = fails(
-        &[
-            "render",
-            "--graph",
-            &p.arg(GRAPH),
-            "--frames",
-            "1",
-            "--size",
-            size,
-            "--out",
-            &out,
-        ],
-        1,
-        parts,
-    );
+    let stderr = fails(&strs(&one_frame(p, ["--graph", GRAPH], size)), 1, parts);
     assert!(!stderr.contains("Validation Error"), "{stderr}");
     assert!(!p.path("x.png").exists());
 }
@@ -634,17 +631,7 @@ fn enable_f16_renders_or_names_the_missing_feature() {
     let p = Project::new();
     let shader = std::fs::read_to_string(p.path("shaders/accumulate.wgsl")).unwrap();
     p.write("shaders/accumulate.wgsl", &format!("enable f16;\n{shader}"));
-    let out = passgraph(&[
-        "render",
-        "--graph",
-        &p.arg(GRAPH),
-        "--frames",
-        "1",
-        "--size",
-        "8x8",
-        "--out",
-        &p.arg("x.png"),
-    ]);
+    let out = passgraph(&strs(&one_frame(&p, ["--graph", GRAPH], "8x8")));
     let stderr = String::from_utf8_lossy(&out.stderr);
     if !out.status.success() {
         assert_eq!(out.status.code(), Some(1), "{stderr}");
@@ -716,17 +703,7 @@ fn triangles_whose_normal_overflows_are_reported_with_file_and_line() {
         &["cornell.obj:7:", "1e19", "overflows", "not rendered"],
     );
     // Through the command line, before the frames.
-    let out = passgraph(&[
-        "render",
-        "--scene",
-        &p.arg(SCENE),
-        "--frames",
-        "1",
-        "--size",
-        "8x8",
-        "--out",
-        &p.arg("x.png"),
-    ]);
+    let out = passgraph(&strs(&one_frame(&p, ["--scene", SCENE], "8x8")));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert_mentions(&stderr, &["warning: ", "cornell.obj:7:", "not rendered"]);
