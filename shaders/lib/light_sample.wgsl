@@ -16,9 +16,8 @@ struct LightSample {
 // The point on `light` that the 2D sample u picks, uniformly by area.
 fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> LightSample {
     let parallelogram = light.second != LIGHT_NO_TRIANGLE;
-    // A triangle takes the square's points through Turk's map; a parallelogram directly.
-    let su = sqrt(u.x);
-    let ab = select(vec2<f32>(su * (1.0 - u.y), su * u.y), u, parallelogram);
+    // A parallelogram takes the square's points as they are.
+    let ab = select(square_to_triangle(u), u, parallelogram);
     let q = light.p0 + ab.x * light.e1 + ab.y * light.e2;
     let c = cross(light.e1, light.e2);
     let twice = length(c);

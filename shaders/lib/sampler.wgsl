@@ -103,12 +103,5 @@ fn sample_2d(source: SampleSource, dim: u32) -> vec2<f32> {
 
 // A 1D sample in [0, 1) from pair `dim` (its first coordinate).
 fn sample_1d(source: SampleSource, dim: u32) -> f32 {
-    let seed = sampler_seed(source, dim);
-    if sampler_kind == SAMPLER_INDEPENDENT {
-        var state = pcg_hash(seed ^ source.index);
-        state = pcg_hash(state + source.index);
-        return rng_next(&state);
-    }
-    let index = sampler_owen(source.index, seed);
-    return sampler_to_unit(reverseBits(sampler_lk_hash(index, pcg_hash(seed + 1u))));
+    return sample_2d(source, dim).x;
 }

@@ -20,10 +20,11 @@ fn sample_cosine(n: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
     return normalize(basis(n) * local);
 }
 
-// Uniform point on a triangle (Turk 1990): barycentrics from two uniforms.
-fn sample_triangle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
-    let su = sqrt(u1);
-    return (1.0 - su) * p0 + su * (1.0 - u2) * p1 + su * u2 * p2;
+// Uniform point on a triangle p0 + a e1 + b e2 from a uniform square sample (Turk 1990): its
+// (a, b), with a, b >= 0 and a + b <= 1.
+fn square_to_triangle(u: vec2<f32>) -> vec2<f32> {
+    let su = sqrt(u.x);
+    return vec2<f32>(su * (1.0 - u.y), su * u.y);
 }
 
 // Moves a ray origin off a surface by a few ulps along n, scale-independently (Wächter and
