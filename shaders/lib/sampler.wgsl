@@ -70,16 +70,20 @@ fn sampler_owen(x: u32, seed: u32) -> u32 {
     return reverseBits(sampler_lk_hash(reverseBits(x), seed));
 }
 
-// The second Sobol dimension's generator matrix applied to i: column k is v_k, with
-// v_0 = 2^31 and v_{k+1} = v_k ^ (v_k >> 1). Branch-free, so SIMD lanes never diverge.
-fn sampler_sobol1(i: u32) -> u32 {
-    var v = 0x80000000u;
-    var r = 0u;
-    for (var k = 0u; k < 32u; k++) {
-        r ^= v & (0u - ((i >> k) & 1u));
-        v ^= v >> 1u;
-    }
-    return r;
+// The second Sobol dimension's generator matrix applied to i, bit-reversed. Its column k is
+// v_k with v_0 = 2^31 and v_{k+1} = v_k ^ (v_k >> 1), so bit 31 - m of v_k is
+// binomial(k, m) mod 2, which is 1 exactly when m's bits are a subset of k's (Lucas): bit m of
+// the result is the XOR of i's bits k over the supersets k of m. Five masked shift-XORs compute
+// that for all 32 bits at once (the subset-sum transform over the 5 bits of a bit position)
+// instead of a loop over i's 32 bits.
+fn sampler_sobol1_reversed(i: u32) -> u32 {
+    var x = i;
+    x ^= (x >> 1u) & 0x55555555u;
+    x ^= (x >> 2u) & 0x33333333u;
+    x ^= (x >> 4u) & 0x0f0f0f0fu;
+    x ^= (x >> 8u) & 0x00ff00ffu;
+    x ^= (x >> 16u) & 0x0000ffffu;
+    return x;
 }
 
 fn sampler_to_unit(x: u32) -> f32 {
@@ -97,7 +101,8 @@ fn sample_2d(source: SampleSource, dim: u32) -> vec2<f32> {
     let index = sampler_owen(source.index, seed);
     // Dimension 0 is the van der Corput sequence, reverseBits(index); its scramble folds in.
     let x = reverseBits(sampler_lk_hash(index, pcg_hash(seed + 1u)));
-    let y = sampler_owen(sampler_sobol1(index), pcg_hash(seed + 2u));
+    // sampler_owen(sobol1(index)) with sobol1 = reverseBits(sampler_sobol1_reversed(index)).
+    let y = reverseBits(sampler_lk_hash(sampler_sobol1_reversed(index), pcg_hash(seed + 2u)));
     return vec2<f32>(sampler_to_unit(x), sampler_to_unit(y));
 }
 
