@@ -45,7 +45,7 @@ fn bvh_wgsl_validates_with_naga_when_included_after_scene_wgsl() {
 
 #[test]
 fn bvh_wgsl_defines_only_its_documented_names() {
-    // Every module-scope name except the public three carries the bvh_/Bvh/BVH_ prefix, so
+    // Every module-scope name except the public four carries the bvh_/Bvh/BVH_ prefix, so
     // including passes cannot collide with helpers.
     let text = std::fs::read_to_string(root().join("shaders/lib/bvh.wgsl")).unwrap();
     for line in text.lines() {
@@ -55,7 +55,8 @@ fn bvh_wgsl_defines_only_its_documented_names() {
                     .chars()
                     .take_while(|c| c.is_alphanumeric() || *c == '_')
                     .collect();
-                let public = ["Hit", "closest_hit", "any_hit"].contains(&name.as_str());
+                let public =
+                    ["Hit", "closest_hit", "any_hit", "shadow_hit"].contains(&name.as_str());
                 let prefixed =
                     name.starts_with("bvh_") || name.starts_with("Bvh") || name.starts_with("BVH_");
                 assert!(public || prefixed, "unprefixed module-scope name '{name}'");

@@ -123,7 +123,10 @@ fn coherent_bounce_order_sums_the_same_bounces_as_index_order() {
             channel(&session, "indirect")
         };
         let (ordered, indexed) = (image(true), image(false));
-        assert!(ordered.mean()[0] > 0.0, "{graph}: the indirect channel is black");
+        assert!(
+            ordered.mean()[0] > 0.0,
+            "{graph}: the indirect channel is black"
+        );
         // The same 11 terms per sample, added in another order: f32 rounding only.
         let d = max_relative_difference(&ordered, &indexed);
         assert!(d <= 1e-5, "{graph}: the images differ by {d}");

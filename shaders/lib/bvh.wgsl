@@ -12,7 +12,7 @@
 //   @group(G) @binding(C) var bvh: texture_storage_2d<rgba32uint, read>;         // scene.bvh (texel view)
 // `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax)
 // and beyond the bound on t's own rounding error (see bvh_intersect_triangle). Names other
-// than Hit, closest_hit and any_hit start with `bvh_`.
+// than Hit, closest_hit, any_hit and shadow_hit start with `bvh_`.
 //
 // Nothing here forms an infinity or a NaN from finite input (vertices within 1e14 of the ray
 // origin): WGSL lets a GPU return anything for an operation that would. The edge functions'
@@ -317,11 +317,23 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
     return best;
 }
 
-// Whether anything is hit with t in (tmin, tmax): shadow and ambient-occlusion rays.
+// Whether anything is hit with t in (tmin, tmax): ambient-occlusion rays, any ray.
 fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
+    return bvh_any_hit_from(0u, origin, dir, tmin, tmax);
+}
+
+// Whether a shadow ray, a segment from a point of the scene toward a point of a light, is
+// blocked: any_hit over the triangles that can block one, the subtree at scene_occluder_root
+// (src/scene/hull.rs says why the others never can).
+fn shadow_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
+    return bvh_any_hit_from(scene_occluder_root, origin, dir, tmin, tmax);
+}
+
+// any_hit over the subtree at `root`, whose miss links end the traversal.
+fn bvh_any_hit_from(root: u32, origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
-    var walk = BvhWalk(0u, 0u, 0u);
+    var walk = BvhWalk(root, 0u, 0u);
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
             let p = scene_triangle_vertices(triangles, walk.next);

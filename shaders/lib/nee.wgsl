@@ -21,7 +21,7 @@ fn light_contribution(s: Surface, m: Material, wo: vec3<f32>, origin: vec3<f32>,
     if l.cos_x <= 0.0 || l.cos_y <= 0.0 {
         return vec3<f32>(0.0);
     }
-    if any_hit(origin, l.end - origin, 0.0, 1.0 - 1e-4) {
+    if shadow_hit(origin, l.end - origin, 0.0, 1.0 - 1e-4) {
         return vec3<f32>(0.0);
     }
     let le = scene_material(materials, light.material).ke;

@@ -4,6 +4,8 @@
 override scene_light_count: u32 = 0u;
 override scene_triangle_count: u32 = 0u;
 override scene_node_count: u32 = 0u;
+// The first BVH node of the triangles that can block a shadow ray (src/scene/hull.rs).
+override scene_occluder_root: u32 = 0u;
 override scene_has_specular: bool = true;
 
 // One triangle, in BVH order; `material` indexes `scene.materials`.

@@ -93,6 +93,11 @@ pub const PROVIDED_OVERRIDES: &[ProvidedOverride] = &[
         what: "number of BVH nodes (texel views have no arrayLength)",
     },
     ProvidedOverride {
+        name: "scene_occluder_root",
+        ty: ParamType::U32,
+        what: "first BVH node of the triangles that can block a shadow ray",
+    },
+    ProvidedOverride {
         name: "scene_has_specular",
         ty: ParamType::Bool,
         what: "whether any material has a specular lobe (Ks > 0)",

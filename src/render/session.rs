@@ -412,6 +412,8 @@ fn provided_data(
         .insert("scene_triangle_count".into(), gpu.triangles.len() as f64);
     data.overrides
         .insert("scene_node_count".into(), gpu.nodes.len() as f64);
+    data.overrides
+        .insert("scene_occluder_root".into(), f64::from(gpu.occluder_root));
     data.overrides.insert(
         "scene_has_specular".into(),
         if gpu.has_specular { 1.0 } else { 0.0 },

@@ -25,6 +25,10 @@ pub struct Bvh {
     /// `order[i]` is the input index of the triangle at position `i` in BVH order. Leaves hold
     /// ranges of positions; degenerate triangles are placed last, in no leaf.
     pub order: Vec<u32>,
+    /// The first node of the subtree over the triangles that can block a shadow ray (see
+    /// [`Bvh::build_with_occluders`]): traversal from it to the end visits only them. 0 when
+    /// every triangle can; `nodes.len()` when none can.
+    pub occluder_root: u32,
     pub stats: BvhStats,
 }
 
@@ -101,6 +105,15 @@ impl Bvh {
     /// Builds the BVH over `triangles`. Never fails: degenerate triangles are left out of the
     /// tree, and with none left the BVH has no nodes.
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
+        Bvh::build_with_occluders(triangles, &vec![true; triangles.len()])
+    }
+
+    /// As [`Bvh::build`], with the triangles that can block a shadow ray (`occluder[i]`; see
+    /// `hull.rs`) in a subtree of their own, the root's second child: depth first, its nodes
+    /// are the last ones and their miss links end the traversal, so shadow rays start at
+    /// `occluder_root` and never visit the others. When both kinds exist the root's split is
+    /// this one rather than the SAH's; below it, each side is an SAH tree.
+    pub fn build_with_occluders(triangles: &[[Vec3; 3]], occluder: &[bool]) -> Bvh {
         let start = Instant::now();
         let mut order = Vec::with_capacity(triangles.len());
         let mut degenerate = Vec::new();
@@ -119,19 +132,36 @@ impl Bvh {
                 order.push(i as u32);
             }
         }
+        let others = partition_in_place(&mut order, |i| !occluder[i as usize]);
 
         let mut builder = Builder {
             primitives,
-            nodes: Vec::with_capacity(2 * order.len() / MAX_LEAF_TRIANGLES + 1),
+            nodes: Vec::with_capacity(2 * order.len() / MAX_LEAF_TRIANGLES + 2),
             stats: BvhStats {
                 triangle_count: triangles.len(),
                 degenerate_count: degenerate.len(),
                 ..BvhStats::default()
             },
         };
-        if !order.is_empty() {
-            builder.build(&mut order, 0, 0);
-        }
+        let occluder_root = if others == 0 || others == order.len() {
+            if !order.is_empty() {
+                builder.build(&mut order, 0, 0);
+            }
+            if others == 0 {
+                0
+            } else {
+                builder.nodes.len() as u32
+            }
+        } else {
+            let bounds = builder.bounds(&order);
+            builder.nodes.push(BvhNode::default());
+            let (left, right) = order.split_at_mut(others);
+            builder.build(left, 0, 1);
+            let root = builder.nodes.len() as u32;
+            builder.build(right, others, 1);
+            builder.nodes[0] = node(&bounds, builder.nodes.len() as u32, 0);
+            root
+        };
         order.extend(degenerate);
 
         let mut stats = builder.stats;
@@ -140,6 +170,7 @@ impl Bvh {
         Bvh {
             nodes: builder.nodes,
             order,
+            occluder_root,
             stats,
         }
     }
@@ -163,11 +194,10 @@ struct Split {
 impl Builder {
     /// Emits the subtree over `order` (the triangles at BVH positions `first..`) depth-first.
     fn build(&mut self, order: &mut [u32], first: usize, depth: usize) {
-        let mut bounds = Bounds::EMPTY;
+        let bounds = self.bounds(order);
         let mut centroids = Bounds::EMPTY;
         for &i in order.iter() {
             let p = &self.primitives[i as usize];
-            bounds.grow(p.lo, p.hi);
             centroids.grow(p.centroid, p.centroid);
         }
 
@@ -189,6 +219,16 @@ impl Builder {
                 self.stats.max_leaf_triangles = self.stats.max_leaf_triangles.max(order.len());
             }
         }
+    }
+
+    /// The box around the triangles of `order`.
+    fn bounds(&self, order: &[u32]) -> Bounds {
+        let mut bounds = Bounds::EMPTY;
+        for &i in order {
+            let p = &self.primitives[i as usize];
+            bounds.grow(p.lo, p.hi);
+        }
+        bounds
     }
 
     /// Reorders `order` so that its first `mid` triangles form the left child and returns `mid`,

@@ -4,6 +4,7 @@
 
 use super::bvh::{Bvh, BvhStats};
 use super::file::Scene;
+use super::hull::hull_faces;
 use super::intersect::{self, Hit, Ray};
 use super::lights::{Light, light_power, scene_lights};
 use super::mesh::Mesh;
@@ -159,6 +160,9 @@ pub struct SceneGpu {
     pub light_power: Vec<f32>,
     /// Depth-first threaded BVH; node 0 is the root. Empty only if no triangle has area.
     pub nodes: Vec<BvhNode>,
+    /// Where shadow rays start their traversal: the subtree without the scene's hull faces,
+    /// which no shadow ray can meet (`hull.rs`). The `scene_occluder_root` override.
+    pub occluder_root: u32,
     /// `lights.len()`: the `scene_light_count` override.
     pub light_count: u32,
     /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
@@ -170,7 +174,8 @@ impl SceneGpu {
     /// Builds the BVH over `mesh` and lays its data out for the GPU.
     pub fn build(mesh: &Mesh) -> SceneGpu {
         let vertices: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
-        let bvh = Bvh::build(&vertices);
+        let occluder: Vec<bool> = hull_faces(&vertices).iter().map(|&h| !h).collect();
+        let bvh = Bvh::build_with_occluders(&vertices, &occluder);
         let triangles: Vec<Triangle> = bvh
             .order
             .iter()
@@ -194,6 +199,7 @@ impl SceneGpu {
             lights,
             light_power,
             nodes: bvh.nodes,
+            occluder_root: bvh.occluder_root,
             has_specular,
             bvh: bvh.stats,
         }
@@ -207,6 +213,13 @@ impl SceneGpu {
     /// Whether anything is hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.
     pub fn any_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
         intersect::any_hit(&self.nodes, &self.triangles, ray, tmin, tmax)
+    }
+
+    /// Whether a shadow ray, a segment between two points of the scene, is blocked: any_hit
+    /// over the occluders only, as `bvh.wgsl`'s shadow_hit.
+    pub fn shadow_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
+        let root = self.occluder_root as usize;
+        intersect::any_hit_from(&self.nodes, root, &self.triangles, ray, tmin, tmax)
     }
 }
 

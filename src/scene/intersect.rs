@@ -295,8 +295,21 @@ pub fn closest_hit(
 
 /// Whether anything is hit with t in (tmin, tmax) (shadow and ambient-occlusion rays).
 pub fn any_hit(nodes: &[BvhNode], triangles: &[Triangle], ray: &Ray, tmin: f32, tmax: f32) -> bool {
+    any_hit_from(nodes, 0, triangles, ray, tmin, tmax)
+}
+
+/// As [`any_hit`], over the subtree at node `root` whose miss links end the traversal (the
+/// occluders' subtree, `Bvh::build_with_occluders`).
+pub fn any_hit_from(
+    nodes: &[BvhNode],
+    root: usize,
+    triangles: &[Triangle],
+    ray: &Ray,
+    tmin: f32,
+    tmax: f32,
+) -> bool {
     let prepared = PreparedRay::new(ray);
-    let mut i = 0;
+    let mut i = root;
     while i < nodes.len() {
         let node = &nodes[i];
         let (lo, hi) = node_box(node);

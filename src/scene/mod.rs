@@ -8,6 +8,7 @@ pub mod camera;
 pub mod error;
 pub mod file;
 pub mod gpu;
+pub mod hull;
 pub mod intersect;
 pub mod lights;
 pub mod mesh;

@@ -54,7 +54,9 @@ pub struct Answer {
     pub v: f32,
     pub triangle: u32,
     pub any: u32,
-    pub pad: [u32; 3],
+    /// shadow_hit: any_hit over the occluders' subtree.
+    pub shadow: u32,
+    pub pad: [u32; 2],
 }
 
 pub struct Gpu {
@@ -118,6 +120,7 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
             constants: &[
                 ("scene_triangle_count", scene.triangles.len() as f64),
                 ("scene_node_count", scene.nodes.len() as f64),
+                ("scene_occluder_root", f64::from(scene.occluder_root)),
             ],
             ..Default::default()
         },
@@ -183,6 +186,12 @@ pub fn compare(
         let cpu = scene.closest_hit(&ray, q.tmin, q.tmax);
         let any = scene.any_hit(&ray, q.tmin, q.tmax);
         assert_eq!(a.any != 0, any, "{name}: any_hit differs for {ray:?}");
+        let shadow = scene.shadow_hit(&ray, q.tmin, q.tmax);
+        assert_eq!(
+            a.shadow != 0,
+            shadow,
+            "{name}: shadow_hit differs for {ray:?}"
+        );
         let Some(hit) = cpu else {
             assert_eq!(
                 a.triangle,

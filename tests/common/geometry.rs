@@ -23,6 +23,11 @@ impl Rng {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
 
+    /// Uniform in 0..n.
+    pub fn index(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
     pub fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
         let mut c = || lo + (hi - lo) * self.unit();
         Vec3::new(c(), c(), c())

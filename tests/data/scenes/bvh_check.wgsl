@@ -1,5 +1,5 @@
 // Test shader: shaders/lib/bvh.wgsl used as its contract says. It casts one ray per invocation
-// and writes both queries' answers, so it also serves GPU-against-CPU checks.
+// and writes the three queries' answers, so it also serves GPU-against-CPU checks.
 #include "lib/scene.wgsl"
 #include "lib/bvh.wgsl"
 
@@ -16,7 +16,7 @@ struct Answer {
     v: f32,
     triangle: u32,
     any: u32,
-    pad0: u32,
+    shadow: u32,
     pad1: u32,
     pad2: u32,
 }
@@ -35,5 +35,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let q = queries[i];
     let hit = closest_hit(q.origin, q.dir, q.tmin, q.tmax);
     let any = any_hit(q.origin, q.dir, q.tmin, q.tmax);
-    answers[i] = Answer(hit.t, hit.u, hit.v, hit.triangle, select(0u, 1u, any), 0u, 0u, 0u);
+    let shadow = shadow_hit(q.origin, q.dir, q.tmin, q.tmax);
+    answers[i] = Answer(hit.t, hit.u, hit.v, hit.triangle, select(0u, 1u, any), select(0u, 1u, shadow), 0u, 0u);
 }
