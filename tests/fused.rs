@@ -83,6 +83,51 @@ fn four_samples_per_frame_give_the_image_of_four_times_the_frames() {
 }
 
 #[test]
+fn split_light_samples_keep_the_expectation_and_the_fused_pass_takes_the_same_ones() {
+    // The Cornell box against its reference's mean. (Not the furnace: next to its edges and
+    // corners a point samples the adjacent wall by area with weights up to 1/r^2, a heavy
+    // tail that makes the spread between a few seeds no measure of the error.)
+    let (expected, slack) = cornell_reference_mean();
+    let images: Vec<_> = (1..=8)
+        .map(|seed| {
+            let set = ["path.light_samples=3"];
+            let s = settings("graphs/pathtracer-fused.ron", CORNELL, 32, seed, &set);
+            channel(&render(&s, 4), "l0+direct+indirect")
+        })
+        .collect();
+    assert_unbiased("Cornell box, 3 light samples", &images, expected, slack);
+    // The separate direct pass and the fused pass average the same three estimates.
+    let separate = render(
+        &settings(
+            "graphs/pathtracer.ron",
+            CORNELL,
+            32,
+            5,
+            &["direct.light_samples=3"],
+        ),
+        2,
+    );
+    let fused = render(
+        &settings(
+            "graphs/pathtracer-fused.ron",
+            CORNELL,
+            32,
+            5,
+            &["path.light_samples=3"],
+        ),
+        2,
+    );
+    let (a, b) = (channel(&separate, "direct"), channel(&fused, "direct"));
+    let d = max_relative_difference(&a, &b);
+    assert!(d <= 1e-6, "the fused direct channel differs by {d}");
+    let one = channel(
+        &render(&settings("graphs/pathtracer.ron", CORNELL, 32, 5, &[]), 2),
+        "direct",
+    );
+    assert_ne!(a.pixels, one.pixels, "light_samples=3 changed nothing");
+}
+
+#[test]
 fn split_bounces_keep_the_expectation_on_the_furnace_and_the_cornell_box() {
     let renders = |graph: &str, scene: &str, size: u32, set: &[&str]| -> Vec<_> {
         (1..=8)
