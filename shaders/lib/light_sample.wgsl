@@ -1,28 +1,51 @@
-// One sample of next-event estimation's light: a uniform point on a light (a triangle or a
+// One sample of next-event estimation's light: a point on a light (a triangle or a
 // parallelogram) and the shadow ray to it. Shared by nee.wgsl and the acne census
 // (tests/fixtures), so the census checks exactly the rays the passes cast. The including
 // shader includes scene, sampling and surface.
+#include "spherical_rectangle.wgsl"
 
 struct LightSample {
     // The shadow ray runs from the shading point's offset origin to `end` (t in (0, 1)).
     end: vec3<f32>,
     wi: vec3<f32>,
-    d2: f32,
     cos_x: f32,
     cos_y: f32,
-    area: f32,
+    // What multiplies f * Le in the estimate (the integrand over the pdf, but for them):
+    // cos_x * cos_y * area / d^2 for a point uniform in area, cos_x * S for a point uniform in
+    // the light's solid angle S.
+    geometry: f32,
 }
 
-// The point on `light` that the 2D sample u picks, uniformly by area.
+// Solid angles between which a rectangular light is sampled by solid angle: below, the light
+// is small or far, 1/d^2 hardly varies over it and uniform area sampling is as good and cheaper;
+// S (a difference of angles near 2 pi) also loses digits as it shrinks: at 0.01 sr its f32
+// rounding is below 1e-4 of it. Above, the point nearly touches the light's plane.
+const LIGHT_SOLID_ANGLE_MIN: f32 = 0.01;
+const LIGHT_SOLID_ANGLE_MAX: f32 = 6.2;
+
+// The point on `light` that the 2D sample u picks: uniform in solid angle for a rectangle that
+// subtends between LIGHT_SOLID_ANGLE_MIN and _MAX from a point in front of it (points next to
+// the light: the 1/d^2 of area sampling would give a few samples huge weights), uniform by area
+// otherwise. The choice depends on the shading point only, so the estimate stays unbiased.
 fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> LightSample {
     let parallelogram = light.second != LIGHT_NO_TRIANGLE;
+    let c = cross(light.e1, light.e2);
+    let twice = length(c);
+    let nl = c / twice;
+    let rectangle = parallelogram && abs(dot(light.e1, light.e2)) <= 1e-6 * length(light.e1) * length(light.e2);
+    if rectangle && dot(nl, origin - light.p0) > 0.0 {
+        let r = spherical_rectangle(origin, light.p0, light.e1, light.e2);
+        if r.solid_angle >= LIGHT_SOLID_ANGLE_MIN && r.solid_angle <= LIGHT_SOLID_ANGLE_MAX {
+            let q = spherical_rectangle_point(r, u);
+            let wi = normalize(q - origin);
+            let cos_x = dot(s.n, wi);
+            return LightSample(offset_ray(q, nl), wi, cos_x, -dot(nl, wi), cos_x * r.solid_angle);
+        }
+    }
     // A parallelogram takes the square's points as they are.
     let ab = select(square_to_triangle(u), u, parallelogram);
     let q = light.p0 + ab.x * light.e1 + ab.y * light.e2;
-    let c = cross(light.e1, light.e2);
-    let twice = length(c);
     let area = select(0.5 * twice, twice, parallelogram);
-    let nl = c / twice;
     let to_light = q - origin;
     let d2 = dot(to_light, to_light);
     let wi = to_light * inverseSqrt(d2);
@@ -32,5 +55,7 @@ fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> Li
     // and the light would occlude itself.
     let end = offset_ray(q, nl);
     // Emission leaves the front face only: cos_y is taken against the front normal.
-    return LightSample(end, wi, d2, dot(s.n, wi), -dot(nl, wi), area);
+    let cos_x = dot(s.n, wi);
+    let cos_y = -dot(nl, wi);
+    return LightSample(end, wi, cos_x, cos_y, cos_x * cos_y / d2 * area);
 }

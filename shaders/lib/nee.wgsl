@@ -14,7 +14,8 @@ fn direct_light(s: Surface, wo: vec3<f32>, source: SampleSource, dim_select: u32
     return all_lights(s, wo, source, dim_light);
 }
 
-// f * Le * cos_x * cos_y / d^2 * area for the point u picks on light i, 0 if occluded.
+// f * Le * (cos_x * cos_y / d^2 * area, or cos_x * S) for the point u picks on light i
+// (light_sample.wgsl), 0 if occluded.
 fn light_contribution(s: Surface, m: Material, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>) -> vec3<f32> {
     let light = scene_light(lights, i);
     let l = sample_light(s, origin, light, u);
@@ -25,7 +26,7 @@ fn light_contribution(s: Surface, m: Material, wo: vec3<f32>, origin: vec3<f32>,
         return vec3<f32>(0.0);
     }
     let le = scene_material(materials, light.material).ke;
-    return brdf(m, s.n, wo, l.wi) * le * (l.cos_x * l.cos_y / l.d2 * l.area);
+    return brdf(m, s.n, wo, l.wi) * le * l.geometry;
 }
 
 // One light, drawn with probability pmf, and its contribution divided by pmf.
