@@ -59,7 +59,7 @@ fn denoised_image_has_a_lower_error_than_the_raw_one_at_low_frame_counts() {
         "graphs/pathtracer-denoise.ron",
         128,
         7,
-        &["remodulate.fade_frames=0"],
+        &["denoise/remodulate.fade_frames=0"],
     );
     let mut session = render(&s, 0);
     let mut frames = 0;
@@ -115,7 +115,7 @@ fn bits(img: &RgbImage) -> Vec<[u32; 3]> {
 fn fade_blends_linearly_and_ends_in_the_raw_sum_exactly() {
     let frames = 2;
     let session = |fade: &str| {
-        let set = format!("remodulate.fade_frames={fade}");
+        let set = format!("denoise/remodulate.fade_frames={fade}");
         render(
             &settings("graphs/pathtracer-denoise.ron", 64, 9, &[&set]),
             frames,
@@ -151,7 +151,10 @@ fn a_channel_that_is_no_float_output_texture_is_an_error_naming_it() {
     for (name, says) in [
         ("nothing", "no resource 'nothing'"),
         ("rays", "'rays' is rgba32float with 3 layer(s)"),
-        ("atrous_a", "'atrous_a' is not among the graph's outputs"),
+        (
+            "denoise/atrous_a",
+            "'denoise/atrous_a' is not among the graph's outputs",
+        ),
         ("result", "'result' is not a texture"),
     ] {
         let message = session

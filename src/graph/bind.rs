@@ -1,5 +1,6 @@
 //! Checking one pass instance against its shader: params, bindings, resource compatibility.
 
+use super::compose::PassOrigin;
 use super::decl::{Dispatch, PassInstanceDecl};
 use super::deps::ResourceId;
 use super::error::GraphError;
@@ -126,13 +127,14 @@ pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
 
 /// Resolves one instance: param overrides, each shader binding to a compatible resource.
 pub fn bind_instance(
-    graph_file: &Path,
+    origin: &PassOrigin,
     instance: &PassInstanceDecl,
     pass: &LoadedPass,
     resources: &[PlannedResource],
     output_size: [u32; 2],
 ) -> Result<BoundPass, GraphError> {
-    let params = resolve_params(graph_file, instance, pass)?;
+    let graph_file = origin.file.as_path();
+    let params = resolve_params(origin, instance, pass)?;
     let shader = &pass.interface;
     let mut bindings = Vec::new();
     for b in &shader.bindings {
@@ -290,12 +292,13 @@ fn check_bounds(
 }
 
 fn resolve_params(
-    graph_file: &Path,
+    origin: &PassOrigin,
     instance: &PassInstanceDecl,
     pass: &LoadedPass,
 ) -> Result<BTreeMap<String, ParamValue>, GraphError> {
     let mut params = pass.decl.params.clone();
     for (name, value) in &instance.params {
+        let graph_file = origin.param_file(name);
         if !value.is_finite() {
             return Err(GraphError::NonFiniteParam {
                 file: graph_file.to_path_buf(),

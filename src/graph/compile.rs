@@ -24,20 +24,32 @@ pub fn compile_file(path: &Path, output_size: [u32; 2]) -> Result<Plan, GraphErr
 pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, GraphError> {
     let file = graph.file.as_path();
     let decl = &graph.decl;
+    if !decl.inputs.is_empty() {
+        return Err(GraphError::Subgraph {
+            graph: file.to_path_buf(),
+            inputs: decl.inputs.clone(),
+        });
+    }
     check_unique_names(file, decl)?;
     check_not_empty(file, decl)?;
     for pass in graph.passes.values() {
         check_pass_params(pass)?;
     }
-    let mut resources = resolve_resources(file, decl, output_size)?;
-    let outputs = resolve_outputs(file, decl, &mut resources)?;
+    let mut resources = resolve_resources(graph, output_size)?;
+    let outputs = resolve_outputs(graph, &mut resources)?;
 
     let bound = decl
         .passes
         .iter()
         .map(|instance| {
             let pass = &graph.passes[&instance.pass];
-            bind_instance(file, instance, pass, &resources, output_size)
+            bind_instance(
+                &graph.pass_origin(&instance.name),
+                instance,
+                pass,
+                &resources,
+                output_size,
+            )
         })
         .collect::<Result<Vec<BoundPass>, _>>()?;
 
@@ -53,7 +65,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
                 resource,
                 later_writer,
             } => GraphError::ReadBeforeWrite {
-                graph: file.to_path_buf(),
+                graph: graph.pass_origin(&decl.passes[pass].name).file,
                 pass: name(pass),
                 binding: bound[pass]
                     .bindings
@@ -75,7 +87,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
         .find(|r| !schedule.all.final_writer.contains_key(r))
     {
         return Err(GraphError::OutputNotWritten {
-            graph: file.to_path_buf(),
+            graph: graph.output_origin(&resources[r].name).to_path_buf(),
             output: resources[r].name.clone(),
         });
     }
@@ -136,6 +148,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
         .filter(|&p| !alive[p])
         .map(|p| CulledPass {
             name: decl.passes[p].name.clone(),
+            origin: graph.pass_origin(&decl.passes[p].name).file,
             reason: cull_reason(p, &uses, &all, decl, &resources),
             uses: bound[p].uses.clone(),
         })
@@ -149,6 +162,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
             let b = &bound[p];
             PlannedPass {
                 name: instance.name.clone(),
+                origin: graph.pass_origin(&instance.name),
                 pass_file: pass.file.clone(),
                 shader: pass.shader.clone(),
                 entry: pass.decl.entry.clone(),
@@ -166,6 +180,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
         .collect();
     Ok(Plan {
         graph: file.to_path_buf(),
+        graph_files: graph.graph_files.clone(),
         output_size,
         resources,
         physical,
@@ -214,12 +229,12 @@ fn check_not_empty(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
 
 /// Declared resources (sized for this output) followed by every provided resource.
 fn resolve_resources(
-    file: &Path,
-    decl: &GraphDecl,
+    graph: &LoadedGraph,
     [width, height]: [u32; 2],
 ) -> Result<Vec<PlannedResource>, GraphError> {
+    let decl = &graph.decl;
     let invalid = |name: &str, reason: String| GraphError::InvalidResource {
-        graph: file.to_path_buf(),
+        graph: graph.resource_origin(name).to_path_buf(),
         resource: name.to_string(),
         reason,
     };
@@ -300,6 +315,7 @@ fn resolve_resources(
         };
         out.push(PlannedResource {
             name: name.clone(),
+            origin: Some(graph.resource_origin(name).to_path_buf()),
             kind,
             persistent: r.persistent(),
             output: false,
@@ -309,6 +325,7 @@ fn resolve_resources(
     }
     out.extend(PROVIDED.iter().map(|p| PlannedResource {
         name: p.name.to_string(),
+        origin: None,
         kind: ResourceKind::Provided(p.kind),
         // Provided content exists before the frame, like a persistent resource's.
         persistent: true,
@@ -320,10 +337,10 @@ fn resolve_resources(
 }
 
 fn resolve_outputs(
-    file: &Path,
-    decl: &GraphDecl,
+    graph: &LoadedGraph,
     resources: &mut [PlannedResource],
 ) -> Result<Vec<ResourceId>, GraphError> {
+    let decl = &graph.decl;
     let mut ids = Vec::new();
     for output in &decl.outputs {
         let found = resources
@@ -331,7 +348,7 @@ fn resolve_outputs(
             .position(|r| &r.name == output && !matches!(r.kind, ResourceKind::Provided(_)));
         let Some(id) = found else {
             return Err(GraphError::UnknownOutput {
-                graph: file.to_path_buf(),
+                graph: graph.output_origin(output).to_path_buf(),
                 output: output.clone(),
                 known: decl.resources.keys().cloned().collect(),
             });

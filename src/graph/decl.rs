@@ -36,14 +36,78 @@ pub enum Dispatch {
     Workgroups(u32, u32, u32),
 }
 
-/// `graphs/<name>.ron`: resources, pass instances in program order, and outputs.
-#[derive(Clone, Debug, Deserialize)]
+/// `graphs/<name>.ron`: resources, pass instances in program order, and outputs — or, with
+/// `extends`, the changes to another graph, and subgraphs joined with `include`
+/// (src/graph/compose.rs applies them; after that only the first three fields are set).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(rename = "Graph", deny_unknown_fields)]
 pub struct GraphDecl {
+    /// The base graph, relative to this file: its resources, passes and outputs are inherited.
+    #[serde(default, deserialize_with = "plain_option")]
+    pub extends: Option<String>,
+    /// Names the passes bind that an including graph supplies: this file is a subgraph.
+    #[serde(default)]
+    pub inputs: Vec<String>,
+    /// Resources added (a name the base already declares is an error: use `replace_resources`).
     #[serde(default, deserialize_with = "unique_keys")]
     pub resources: BTreeMap<String, ResourceDecl>,
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub replace_resources: BTreeMap<String, ResourceDecl>,
+    /// Also drops them from `outputs`.
+    #[serde(default)]
+    pub remove_resources: Vec<String>,
+    /// Passes added, in program order: at the end, or at `before`/`after` an existing pass.
+    #[serde(default)]
     pub passes: Vec<PassInstanceDecl>,
+    /// Whole new instances for inherited passes of the same name, in the same place.
+    #[serde(default)]
+    pub replace_passes: Vec<PassInstanceDecl>,
+    #[serde(default)]
+    pub remove_passes: Vec<String>,
+    /// Param values for inherited passes: instance -> param -> value.
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub params: BTreeMap<String, ParamChanges>,
+    #[serde(default)]
+    pub include: Vec<IncludeDecl>,
+    /// Resources the host reads back (added to the base's).
+    #[serde(default)]
     pub outputs: Vec<String>,
+    #[serde(default)]
+    pub remove_outputs: Vec<String>,
+}
+
+/// One instance's param changes: param -> value.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(transparent)]
+pub struct ParamChanges(
+    #[serde(deserialize_with = "unique_keys")] pub BTreeMap<String, ParamValue>,
+);
+
+/// A subgraph joined as a unit: its passes and resources get `prefix/` in front of their names,
+/// except its inputs (bound to this graph's resources) and the outputs renamed here.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Include", deny_unknown_fields)]
+pub struct IncludeDecl {
+    /// The subgraph file, relative to this file.
+    pub file: String,
+    /// Default: the subgraph file's stem.
+    #[serde(default, deserialize_with = "plain_option")]
+    pub prefix: Option<String>,
+    /// Subgraph input -> resource of this graph.
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub inputs: BTreeMap<String, String>,
+    /// Subgraph output -> its name here (unprefixed). Every subgraph output is an output here.
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub outputs: BTreeMap<String, String>,
+    #[serde(default, deserialize_with = "plain_option")]
+    pub before: Option<String>,
+    #[serde(default, deserialize_with = "plain_option")]
+    pub after: Option<String>,
+}
+
+/// `key: "name"` for an optional name, without RON's `Some(...)`.
+fn plain_option<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<String>, D::Error> {
+    String::deserialize(deserializer).map(Some)
 }
 
 /// A resource the graph owns. Persistent resources keep their content across frames.
@@ -99,7 +163,7 @@ pub enum BufferSize {
 
 /// One use of a pass in a graph.
 // Messages name the type as users know it, not the Rust type.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "PassInstance", deny_unknown_fields)]
 pub struct PassInstanceDecl {
     /// Unique within the graph; several instances may share one `pass`.
@@ -112,6 +176,11 @@ pub struct PassInstanceDecl {
     /// Overrides of the pass's param defaults.
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamValue>,
+    /// Where an added pass goes in program order (default: the end); used by composition only.
+    #[serde(default, deserialize_with = "plain_option")]
+    pub before: Option<String>,
+    #[serde(default, deserialize_with = "plain_option")]
+    pub after: Option<String>,
 }
 
 /// A map whose every key appears once: serde's own maps keep the last of two equal keys

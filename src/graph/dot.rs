@@ -18,8 +18,13 @@ pub fn to_dot(plan: &Plan) -> String {
             "  subgraph cluster_stage{s} {{\n    label=\"stage {s}\";"
         );
         for &p in passes {
-            let name = &plan.passes[p].name;
-            let _ = writeln!(out, "    {} [shape=box];", quote(&format!("pass:{name}")));
+            let pass = &plan.passes[p];
+            let _ = writeln!(
+                out,
+                "    {} [shape=box, label={}];",
+                quote(&format!("pass:{}", pass.name)),
+                quote(&format!("{}\\n{}", pass.name, pass.origin.file.display()))
+            );
         }
         out.push_str("  }\n");
     }
@@ -28,7 +33,7 @@ pub fn to_dot(plan: &Plan) -> String {
             out,
             "  {} [shape=box, style=dashed, color=gray, label={}];",
             quote(&format!("pass:{}", c.name)),
-            quote(&format!("{} (culled)", c.name))
+            quote(&format!("{} (culled)\\n{}", c.name, c.origin.display()))
         );
     }
     for (i, r) in plan.resources.iter().enumerate() {
@@ -53,7 +58,10 @@ pub fn to_dot(plan: &Plan) -> String {
             out,
             "  {} [shape={shape}{style}, label={}];",
             quote(&format!("res:{}", r.name)),
-            quote(&format!("{}\\n{}", r.name, r.kind))
+            quote(&match &r.origin {
+                Some(origin) => format!("{}\\n{}\\n{}", r.name, r.kind, origin.display()),
+                None => format!("{}\\n{}", r.name, r.kind),
+            })
         );
     }
     let uses = plan

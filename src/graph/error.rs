@@ -41,6 +41,18 @@ pub enum GraphError {
         searched: Vec<PathBuf>,
     },
 
+    /// A bad `extends`, `include` or change, at the file (and, where found, line) that made it.
+    #[error("{}{}: {message}", file.display(), line.map_or(String::new(), |l| format!(":{l}")))]
+    Compose {
+        file: PathBuf,
+        line: Option<usize>,
+        message: String,
+    },
+
+    #[error("{}: is a subgraph (inputs {}): it cannot run on its own; include it from a graph with include: [(file: \"...\", inputs: {{...}})]",
+        graph.display(), list(inputs))]
+    Subgraph { graph: PathBuf, inputs: Vec<String> },
+
     #[error("{}: shader file {} not found", pass_file.display(), shader.display())]
     MissingShader { pass_file: PathBuf, shader: PathBuf },
 

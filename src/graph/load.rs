@@ -1,5 +1,6 @@
 //! Reading graph and pass files from disk: RON with positions, pass lookup, shaders and reflection.
 
+use super::compose::{Origins, PassOrigin, flatten};
 use super::decl::{GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
@@ -18,11 +19,16 @@ pub struct LoadedPass {
     pub interface: ShaderInterface,
 }
 
-/// A graph file with every pass it names.
+/// A graph file, flattened (src/graph/compose.rs), with every pass it names.
 #[derive(Clone, Debug)]
 pub struct LoadedGraph {
     pub file: PathBuf,
+    /// The flattened graph: no `extends`, `include` or changes left.
     pub decl: GraphDecl,
+    /// The file each pass, resource and output came from.
+    pub origins: Origins,
+    /// Every graph file it was composed from, `file` first.
+    pub graph_files: Vec<PathBuf>,
     /// Keyed by the `pass` name used in the graph.
     pub passes: BTreeMap<String, LoadedPass>,
 }
@@ -76,34 +82,77 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
     })
 }
 
-/// Loads a graph file and every pass it instantiates (each pass file once).
+/// Loads a graph file, flattens its composition, and loads every pass it instantiates (each
+/// pass file once; a pass is looked up beside the graph file that introduced it).
 pub fn load_graph(file: &Path) -> Result<LoadedGraph, GraphError> {
-    let decl: GraphDecl = parse_ron(file, &read_text(file)?)?;
-    let mut passes = BTreeMap::new();
-    for instance in &decl.passes {
-        if passes.contains_key(&instance.pass) {
-            continue;
-        }
-        let candidates = pass_candidates(file, &instance.pass);
-        let Some(found) = candidates.iter().find(|p| p.is_file()) else {
+    let flat = flatten(file)?;
+    let mut passes: BTreeMap<String, LoadedPass> = BTreeMap::new();
+    for instance in &flat.decl.passes {
+        let introduced_by = flat
+            .origins
+            .passes
+            .get(&instance.name)
+            .map_or(file, |o| o.file.as_path());
+        let candidates = pass_candidates(introduced_by, &instance.pass);
+        let Some(found) = candidates.iter().find(|p| p.is_file()).map(|p| clean(p)) else {
             return Err(GraphError::UnknownPass {
-                graph: file.to_path_buf(),
+                graph: introduced_by.to_path_buf(),
                 pass: instance.name.clone(),
                 pass_name: instance.pass.clone(),
                 searched: candidates,
             });
         };
-        passes.insert(instance.pass.clone(), load_pass(&clean(found))?);
+        match passes.get(&instance.pass) {
+            Some(loaded) if loaded.file != found => {
+                return Err(GraphError::Compose {
+                    file: introduced_by.to_path_buf(),
+                    line: None,
+                    message: format!(
+                        "pass '{}' uses pass '{}', which is {} here but {} for another file of this graph; rename one of the pass files",
+                        instance.name,
+                        instance.pass,
+                        found.display(),
+                        loaded.file.display()
+                    ),
+                });
+            }
+            Some(_) => {}
+            None => {
+                passes.insert(instance.pass.clone(), load_pass(&found)?);
+            }
+        }
     }
     Ok(LoadedGraph {
         file: file.to_path_buf(),
-        decl,
+        decl: flat.decl,
+        origins: flat.origins,
+        graph_files: flat.files,
         passes,
     })
 }
 
+impl LoadedGraph {
+    /// The file that introduced a pass instance (the top file for one added after loading).
+    pub fn pass_origin(&self, instance: &str) -> PassOrigin {
+        self.origins
+            .passes
+            .get(instance)
+            .cloned()
+            .unwrap_or_else(|| PassOrigin::new(&self.file))
+    }
+
+    /// The file that introduced a resource or output.
+    pub fn resource_origin(&self, name: &str) -> &Path {
+        self.origins.resources.get(name).unwrap_or(&self.file)
+    }
+
+    pub fn output_origin(&self, name: &str) -> &Path {
+        self.origins.outputs.get(name).unwrap_or(&self.file)
+    }
+}
+
 /// Drops `dir/..` pairs lexically so messages show `passes/x.ron`, not `graphs/../passes/x.ron`.
-fn clean(path: &Path) -> PathBuf {
+pub(crate) fn clean(path: &Path) -> PathBuf {
     use std::path::Component;
     let mut out: Vec<Component> = Vec::new();
     for c in path.components() {

@@ -3,6 +3,7 @@
 
 pub mod bind;
 pub mod compile;
+pub mod compose;
 pub mod contract;
 pub mod cull;
 pub mod decl;

@@ -1,5 +1,6 @@
 //! The compiled graph: what the GPU executor records and what graph tests assert on.
 
+use super::compose::PassOrigin;
 use super::deps::{PassId, ResourceId};
 use super::format::TextureFormat;
 use super::interface::{Access, BindingKind};
@@ -52,6 +53,8 @@ impl ResourceKind {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlannedResource {
     pub name: String,
+    /// The graph file that declared it; `None` for provided resources.
+    pub origin: Option<PathBuf>,
     pub kind: ResourceKind,
     pub persistent: bool,
     pub output: bool,
@@ -92,6 +95,8 @@ pub struct ParamsUniform {
 #[derive(Clone, Debug)]
 pub struct PlannedPass {
     pub name: String,
+    /// The graph file that introduced the instance, and those that changed its params.
+    pub origin: PassOrigin,
     pub pass_file: PathBuf,
     pub shader: ShaderSource,
     pub entry: String,
@@ -114,6 +119,8 @@ pub struct PlannedPass {
 #[derive(Clone, Debug, PartialEq)]
 pub struct CulledPass {
     pub name: String,
+    /// The graph file that introduced the instance.
+    pub origin: PathBuf,
     pub reason: String,
     pub uses: Vec<(ResourceId, Access)>,
 }
@@ -130,6 +137,8 @@ pub struct PlannedEdge {
 #[derive(Clone, Debug)]
 pub struct Plan {
     pub graph: PathBuf,
+    /// Every graph file `graph` was composed from (extends, include), `graph` first.
+    pub graph_files: Vec<PathBuf>,
     pub output_size: [u32; 2],
     pub resources: Vec<PlannedResource>,
     pub physical: Vec<PhysicalResource>,

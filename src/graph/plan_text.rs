@@ -1,6 +1,6 @@
 //! The human-readable plan that `passgraph plan` prints.
 
-use super::plan::{Plan, ResourceKind};
+use super::plan::{Plan, PlannedResource, ResourceKind};
 use super::provided::ProvidedKind;
 use super::schedule::UsageSet;
 use std::fmt::{self, Write};
@@ -52,10 +52,25 @@ impl fmt::Display for ResourceKind {
     }
 }
 
+/// ` (from FILE)` for a graph-owned resource.
+fn from(r: &PlannedResource) -> String {
+    r.origin
+        .as_ref()
+        .map_or(String::new(), |f| format!(" (from {})", f.display()))
+}
+
 impl fmt::Display for Plan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let [w, h] = self.output_size;
         writeln!(f, "plan for {} at {w}x{h}", self.graph.display())?;
+        if self.graph_files.len() > 1 {
+            let files: Vec<String> = self
+                .graph_files
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect();
+            writeln!(f, "composed of {}", files.join(", "))?;
+        }
         writeln!(f, "\nstages ({}):", self.stages.len())?;
         for (s, names) in self.stage_names().iter().enumerate() {
             writeln!(f, "  {s}: {}", names.join(", "))?;
@@ -70,6 +85,19 @@ impl fmt::Display for Plan {
                 p.stage,
                 p.pass_file.display()
             );
+            let _ = write!(line, " from {}", p.origin.file.display());
+            // Params set by another file than the pass's own, grouped by that file.
+            let mut changed: Vec<(String, Vec<&str>)> = Vec::new();
+            for (param, file) in &p.origin.params {
+                let file = file.display().to_string();
+                match changed.iter_mut().find(|(f, _)| *f == file) {
+                    Some((_, params)) => params.push(param),
+                    None => changed.push((file, vec![param])),
+                }
+            }
+            for (file, params) in changed {
+                let _ = write!(line, ", {} from {file}", params.join(", "));
+            }
             if !p.params.is_empty() {
                 let params: Vec<String> =
                     p.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
@@ -105,14 +133,26 @@ impl fmt::Display for Plan {
             writeln!(f, "  none")?;
         }
         for c in &self.culled {
-            writeln!(f, "  {}: {}", c.name, c.reason)?;
+            writeln!(
+                f,
+                "  {} (from {}): {}",
+                c.name,
+                c.origin.display(),
+                c.reason
+            )?;
         }
 
         writeln!(f, "\nresources:")?;
         for r in &self.resources {
             let Some(life) = r.lifetime else {
                 if !matches!(r.kind, ResourceKind::Provided(_)) {
-                    writeln!(f, "  {:<16} {} (unused by kept passes)", r.name, r.kind)?;
+                    writeln!(
+                        f,
+                        "  {:<16} {} (unused by kept passes){}",
+                        r.name,
+                        r.kind,
+                        from(r)
+                    )?;
                 }
                 continue;
             };
@@ -127,12 +167,13 @@ impl fmt::Display for Plan {
                 tags.push(format!("object #{s}"));
             }
             let line = format!(
-                "  {:<16} {:<32} stages {}-{}  {}",
+                "  {:<16} {:<32} stages {}-{}  {}{}",
                 r.name,
                 r.kind.to_string(),
                 life.first_stage,
                 life.last_stage,
-                tags.join(", ")
+                tags.join(", "),
+                from(r)
             );
             writeln!(f, "{}", line.trim_end())?;
         }

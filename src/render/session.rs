@@ -345,7 +345,7 @@ pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<
 }
 
 fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
-    let mut files = vec![graph.file.clone()];
+    let mut files = graph.graph_files.clone();
     for pass in graph.passes.values() {
         files.push(pass.file.clone());
         files.extend(pass.shader.files().iter().cloned());

@@ -96,6 +96,12 @@ impl Scratch {
     }
 }
 
+/// A graph file that declares `inputs` is a subgraph (graphs/denoiser.ron): it runs only
+/// where a graph includes it.
+pub fn is_subgraph(path: &Path) -> bool {
+    std::fs::read_to_string(path).is_ok_and(|t| t.contains("inputs: ["))
+}
+
 /// Asserts that `message` contains every one of `parts`.
 pub fn assert_mentions(message: &str, parts: &[&str]) {
     for part in parts {
