@@ -8,6 +8,7 @@ pub mod atomic_write;
 pub mod bench;
 pub mod gpu;
 pub mod graph;
+pub mod graphtest;
 pub mod render;
 pub mod scene;
 pub mod text_file;

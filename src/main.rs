@@ -52,6 +52,19 @@ enum Command {
     Bench(BenchArgs),
     /// Open a window showing the image as it accumulates: fly camera, channel keys, hot reload.
     View(ViewArgs),
+    /// Run graph test files (RON): per case, build the graph, render the scene for its
+    /// frames and seeds, check the plan's shape and image statistics; one line per case.
+    Test {
+        /// Test files, e.g. tests/graphs/*.ron.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Print every expectation's measured value, passed or not (to derive a new case's
+        /// bounds, e.g. over many seeds).
+        #[arg(long)]
+        measure: bool,
+        #[arg(long)]
+        adapter: Option<String>,
+    },
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -615,6 +628,29 @@ fn run(cli: Cli) -> Result<(), Failure> {
             );
         }
         Command::Plan(g) => print!("{}", plan(&g)?),
+        Command::Test {
+            files,
+            measure,
+            adapter,
+        } => {
+            let summary = passgraph::graphtest::run_files(
+                &files,
+                adapter.as_deref(),
+                measure,
+                &mut std::io::stdout(),
+            );
+            if !summary.success() {
+                return Err(Failure::Invalid(format!(
+                    "{} of {} cases failed{}",
+                    summary.failed,
+                    summary.passed + summary.failed,
+                    match summary.bad_files {
+                        0 => String::new(),
+                        n => format!(", {n} test file(s) could not be run"),
+                    }
+                )));
+            }
+        }
         Command::Dot { graph, out } => {
             let dot = to_dot(&plan(&graph)?);
             match out {

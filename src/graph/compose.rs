@@ -54,6 +54,16 @@ pub fn flatten(file: &Path) -> Result<Flattened, GraphError> {
     flatten_within(file, &mut Vec::new())
 }
 
+/// Flattens a graph written inside another file (a graph test's inline `changes`): its paths
+/// are relative to `file`, and errors and origins name `file` (lines found in `text`).
+pub fn flatten_inline(file: &Path, text: &str, decl: &GraphDecl) -> Result<Flattened, GraphError> {
+    let mut chain = vec![Link {
+        canonical: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()),
+        shown: file.to_path_buf(),
+    }];
+    apply(&Source { file, text }, decl, &mut chain)
+}
+
 /// A graph file on the chain of files being flattened: its canonical path (to find cycles) and
 /// the path as the user wrote it (to show them).
 struct Link {

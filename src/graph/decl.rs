@@ -105,9 +105,13 @@ pub struct IncludeDecl {
     pub after: Option<String>,
 }
 
-/// `key: "name"` for an optional name, without RON's `Some(...)`.
-fn plain_option<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<String>, D::Error> {
-    String::deserialize(deserializer).map(Some)
+/// `key: value` for an optional value, without RON's `Some(...)`.
+pub(crate) fn plain_option<'de, D, T>(deserializer: D) -> Result<Option<T>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    T::deserialize(deserializer).map(Some)
 }
 
 /// A resource the graph owns. Persistent resources keep their content across frames.
@@ -185,7 +189,7 @@ pub struct PassInstanceDecl {
 
 /// A map whose every key appears once: serde's own maps keep the last of two equal keys
 /// silently, which hides a typo'd copy-paste. The error is positioned at the repeated key.
-fn unique_keys<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
+pub(crate) fn unique_keys<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
 where
     D: Deserializer<'de>,
     V: Deserialize<'de>,

@@ -1,6 +1,6 @@
 //! Reading graph and pass files from disk: RON with positions, pass lookup, shaders and reflection.
 
-use super::compose::{Origins, PassOrigin, flatten};
+use super::compose::{Flattened, Origins, PassOrigin, flatten};
 use super::decl::{GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
@@ -85,7 +85,13 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
 /// Loads a graph file, flattens its composition, and loads every pass it instantiates (each
 /// pass file once; a pass is looked up beside the graph file that introduced it).
 pub fn load_graph(file: &Path) -> Result<LoadedGraph, GraphError> {
-    let flat = flatten(file)?;
+    load_flattened(file, flatten(file)?)
+}
+
+/// Loads the passes of a flattened graph. A pass is looked up beside the graph file that
+/// introduced it, then beside the other files of the composition (so changes written inline in
+/// a graph test find the passes of the graph they extend).
+pub fn load_flattened(file: &Path, flat: Flattened) -> Result<LoadedGraph, GraphError> {
     let mut passes: BTreeMap<String, LoadedPass> = BTreeMap::new();
     for instance in &flat.decl.passes {
         let introduced_by = flat
@@ -93,7 +99,14 @@ pub fn load_graph(file: &Path) -> Result<LoadedGraph, GraphError> {
             .passes
             .get(&instance.name)
             .map_or(file, |o| o.file.as_path());
-        let candidates = pass_candidates(introduced_by, &instance.pass);
+        let mut candidates = pass_candidates(introduced_by, &instance.pass);
+        for other in &flat.files {
+            for c in pass_candidates(other, &instance.pass) {
+                if !candidates.contains(&c) {
+                    candidates.push(c);
+                }
+            }
+        }
         let Some(found) = candidates.iter().find(|p| p.is_file()).map(|p| clean(p)) else {
             return Err(GraphError::UnknownPass {
                 graph: introduced_by.to_path_buf(),

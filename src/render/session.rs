@@ -124,12 +124,30 @@ impl Session {
         Session::build(settings, None, || Ok(ctx))
     }
 
+    /// A session of a graph already loaded (e.g. flattened from changes written inline in a
+    /// graph test) on an existing device; `settings.graph` is not read.
+    pub fn with_graph(
+        ctx: GpuContext,
+        graph: LoadedGraph,
+        settings: &RenderSettings,
+    ) -> Result<Session, RenderError> {
+        Session::build_loaded(graph, settings, None, || Ok(ctx))
+    }
+
     fn build(
         settings: &RenderSettings,
         shown: Option<&ChannelSelection>,
         context: impl FnOnce() -> Result<GpuContext, GpuError>,
     ) -> Result<Session, RenderError> {
-        let mut graph = load_graph(&settings.graph)?;
+        Session::build_loaded(load_graph(&settings.graph)?, settings, shown, context)
+    }
+
+    fn build_loaded(
+        mut graph: LoadedGraph,
+        settings: &RenderSettings,
+        shown: Option<&ChannelSelection>,
+        context: impl FnOnce() -> Result<GpuContext, GpuError>,
+    ) -> Result<Session, RenderError> {
         let source_files = graph_files(&graph);
         for s in &settings.set {
             set_param(&mut graph, s)?;
