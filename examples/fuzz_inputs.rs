@@ -1,5 +1,5 @@
-//! A bounded mutation fuzzer over the shipped inputs (CI's fuzz step, see .ci/run): graphs,
-//! pass files, shaders and their includes, scenes, OBJ/MTL and PLY meshes (ASCII and binary),
+//! A bounded mutation fuzzer over the shipped inputs (CI's fuzz step, see .ci/run): graphs
+//! (which extend and include each other), graph tests, pass files, shaders and their includes, scenes, OBJ/MTL and PLY meshes (ASCII and binary),
 //! camera paths and viewer scripts. Each case mutates one file of a fresh scratch copy, then
 //! runs what `check` and the loaders run (no GPU): load and compile the graph, check the render
 //! contract, print the plan and dot; load the scene and build its BVH and GPU layout; parse the
@@ -220,9 +220,13 @@ end_header\n"
 
 /// The scratch project: graphs, passes, shaders and scenes as shipped, plus inputs made here.
 fn lay_out(root: &Path, dir: &Path) {
-    for sub in ["graphs", "passes", "shaders", "scenes"] {
+    for sub in ["graphs", "passes", "shaders", "scenes", "tests/graphs"] {
         copy_dir(&root.join(sub), &dir.join(sub));
     }
+    // The reference the graph tests read.
+    let reference = "tests/data/references/cornell-128-depth3.exr";
+    std::fs::create_dir_all(dir.join("tests/data/references")).unwrap();
+    std::fs::copy(root.join(reference), dir.join(reference)).unwrap();
     let extra = dir.join("scenes/extra");
     std::fs::create_dir_all(&extra).unwrap();
     std::fs::copy(
@@ -281,6 +285,8 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
 enum Target {
     /// Compile a graph (the mutated file is the graph, a pass or a shader).
     Graph,
+    /// Read a graph test file and compile its cases' graphs (no rendering).
+    GraphTest,
     Scene,
     CameraPath,
     Script,
@@ -301,6 +307,9 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
                 let _ = plan.to_string();
                 let _ = passgraph::to_dot(&plan);
             }
+        }
+        Target::GraphTest => {
+            let _ = passgraph::graphtest::run::check_file(graph);
         }
         Target::Scene => {
             if let Ok(scene) = passgraph::scene::load_scene(scene) {
@@ -371,6 +380,8 @@ fn main() {
     lay_out(root, &pristine);
     let mut inputs = Vec::new();
     files(&pristine, &mut inputs);
+    // The reference image is data the graph tests read, not an input to mutate.
+    inputs.retain(|p| !p.starts_with(pristine.join("tests/data")));
     inputs.sort();
     let graphs: Vec<PathBuf> = inputs
         .iter()
@@ -436,7 +447,9 @@ fn main() {
         std::fs::write(case_dir.join(&rel), &data).unwrap();
 
         let name = rel.to_string_lossy().into_owned();
-        let target = if name.starts_with("graphs")
+        let target = if name.starts_with("tests/graphs") {
+            Target::GraphTest
+        } else if name.starts_with("graphs")
             || name.starts_with("passes")
             || name.starts_with("shaders")
         {
@@ -450,7 +463,7 @@ fn main() {
         };
         // A mutated graph, pass or shader is compiled through one graph using it (any graph
         // for a shared file); a mesh through the scene naming it.
-        let graph = if name.starts_with("graphs") {
+        let graph = if name.starts_with("graphs") || name.starts_with("tests/graphs") {
             case_dir.join(&rel)
         } else {
             case_dir.join(rng.pick(&graphs))

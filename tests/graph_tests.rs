@@ -59,6 +59,15 @@ fn the_shipped_graph_tests_pass() {
     }
 }
 
+#[test]
+fn every_shipped_test_file_reads_and_its_graphs_compile_without_rendering() {
+    for file in test_files(root()) {
+        let cases = passgraph::graphtest::run::check_file(&root().join(&file))
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(cases > 0, "{file}");
+    }
+}
+
 /// A project copy with what tests/graphs/pathtracer.ron reads.
 fn project() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();

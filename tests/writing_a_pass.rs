@@ -8,10 +8,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The tutorial's files, relative to docs/.
-const FILES: [&str; 3] = [
+const FILES: [&str; 4] = [
     "writing-a-pass/shaders/false_colour.wgsl",
     "writing-a-pass/passes/false_colour.ron",
     "writing-a-pass/graphs/pathtracer-false-colour.ron",
+    "writing-a-pass/tests/false-colour.ron",
 ];
 
 /// The fenced block after each `<!-- include: PATH -->` line of the doc, by PATH.
@@ -96,12 +97,19 @@ fn ramp(t: f32) -> [f32; 3] {
 
 #[test]
 fn the_tutorial_pass_runs_through_the_built_binary() {
-    // A project folder as a user would have it after the tutorial: the shipped passes and
-    // shaders, plus the three new files.
+    // A project folder as a user would have it after the tutorial: the shipped passes,
+    // shaders, path tracer graph and Cornell box, plus the new files.
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     copy_dir(&root().join("passes"), &d.join("passes"));
     copy_dir(&root().join("shaders"), &d.join("shaders"));
+    copy_dir(&root().join("scenes/cornell"), &d.join("scenes/cornell"));
+    std::fs::create_dir_all(d.join("graphs")).unwrap();
+    std::fs::copy(
+        root().join("graphs/pathtracer.ron"),
+        d.join("graphs/pathtracer.ron"),
+    )
+    .unwrap();
     for file in FILES {
         let to = d.join(file.strip_prefix("writing-a-pass/").unwrap());
         std::fs::create_dir_all(to.parent().unwrap()).unwrap();
@@ -111,6 +119,13 @@ fn the_tutorial_pass_runs_through_the_built_binary() {
     assert!(passgraph(d, &["check", graph]).contains(": ok (6 passes in 4 stages, 0 culled)"));
     let plan = passgraph(d, &["plan", graph]);
     assert!(plan.contains("  3: false_colour\n"), "{plan}");
+
+    // Section 6: the graph tests print what the doc shows.
+    let doc = std::fs::read_to_string(root().join("docs/writing-a-pass.md")).unwrap();
+    let command = "$ passgraph test tests/false-colour.ron\n";
+    let shown = &doc[doc.find(command).expect("the doc runs the tests") + command.len()..];
+    let shown = &shown[..shown.find("```").unwrap()];
+    assert_eq!(passgraph(d, &["test", "tests/false-colour.ron"]), shown);
 
     let scene = root().join("scenes/cornell/scene.ron");
     let render = |channel: &str, out: &str| {

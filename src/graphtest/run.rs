@@ -87,12 +87,9 @@ pub fn run_files(
             let place = format!("{}:{}", file.display(), case.line);
             if failures.is_empty() {
                 summary.passed += 1;
-                let _ = writeln!(
-                    out,
-                    "ok    {place} {} ({} expectations)",
-                    case.name,
-                    case.expect.len()
-                );
+                let n = case.expect.len();
+                let plural = if n == 1 { "" } else { "s" };
+                let _ = writeln!(out, "ok    {place} {} ({n} expectation{plural})", case.name);
             } else {
                 summary.failed += 1;
                 let _ = writeln!(out, "FAIL  {place} {}: {}", case.name, failures.join("; "));
@@ -116,6 +113,17 @@ pub fn run_files(
         }
     );
     summary
+}
+
+/// Reads and checks a test file and loads and compiles each case's graph, rendering nothing:
+/// the number of cases, or the first error (what the input fuzzer exercises).
+pub fn check_file(file: &Path) -> Result<usize, String> {
+    let cases = read_cases(file)?;
+    for case in &cases {
+        let graph = load_case_graph(file, case)?;
+        compile(&graph, case.size).map_err(|e| e.to_string())?;
+    }
+    Ok(cases.len())
 }
 
 /// The line (1-based) of the first `needle` at or after byte `from`, else of `from`.
