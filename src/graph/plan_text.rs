@@ -135,10 +135,10 @@ impl fmt::Display for Plan {
         for c in &self.culled {
             writeln!(
                 f,
-                "  {} (from {}): {}",
+                "  {}: {} (from {})",
                 c.name,
-                c.origin.display(),
-                c.reason
+                c.reason,
+                c.origin.display()
             )?;
         }
 
