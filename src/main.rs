@@ -44,7 +44,14 @@ enum Command {
         generic: bool,
     },
     /// Print the compiled plan: stages, barriers, culled passes, lifetimes and reuse.
-    Plan(GraphArgs),
+    Plan {
+        #[command(flatten)]
+        graph: GraphArgs,
+        /// Print a pass x resource chart instead: who writes and reads each resource, where it
+        /// is alive, and which memory object holds it.
+        #[arg(long)]
+        chart: bool,
+    },
     /// Render a scene progressively with a graph and write images.
     Render(RenderArgs),
     /// Speed against error: render graph variants, measure the error against a reference at
@@ -627,7 +634,14 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 p.culled.len()
             );
         }
-        Command::Plan(g) => print!("{}", plan(&g)?),
+        Command::Plan { graph, chart } => {
+            let p = plan(&graph)?;
+            if chart {
+                print!("{}", passgraph::graph::plan_chart::lifetime_chart(&p));
+            } else {
+                print!("{p}");
+            }
+        }
         Command::Test {
             files,
             measure,

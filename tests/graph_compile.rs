@@ -285,3 +285,42 @@ fn scene_overrides_need_no_param_and_are_listed_for_the_executor() {
     );
     assert!(direct.overrides.is_empty());
 }
+
+#[test]
+fn lifetime_chart_shows_each_resource_written_read_and_alive_by_pass() {
+    let plan =
+        passgraph::compile_file(&common::root().join("graphs/pathtracer.ron"), [64, 64]).unwrap();
+    let chart = passgraph::graph::plan_chart::lifetime_chart(&plan);
+    let row = |name: &str| -> Vec<String> {
+        let line = chart
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("no row for {name} in\n{chart}"));
+        line.split_whitespace()
+            .skip(1)
+            .take(7)
+            .map(str::to_string)
+            .collect()
+    };
+    // Columns: intersect | ambient direct indirect | accumulate.
+    let header: Vec<&str> = chart.lines().nth(3).unwrap().split_whitespace().collect();
+    assert_eq!(
+        header,
+        [
+            "intersect",
+            "|",
+            "ambient",
+            "direct",
+            "indirect",
+            "|",
+            "accumulate",
+            "memory"
+        ]
+    );
+    // The ray texture: written in stage 0, read by the three lighting passes, then freed.
+    assert_eq!(row("rays"), ["W", "|", "R", "R", "R", "|", "."]);
+    // A channel: written by its pass, alive across its stage, read by accumulate.
+    assert_eq!(row("l0"), [".", "|", "=", "W", "=", "|", "R"]);
+    assert_eq!(row("result"), ["=", "|", "=", "=", "=", "|", "RW"]);
+    assert!(chart.contains("persistent"), "{chart}");
+}

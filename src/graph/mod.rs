@@ -16,6 +16,7 @@ pub mod lifetime;
 pub mod load;
 pub mod param;
 pub mod plan;
+pub mod plan_chart;
 pub mod plan_text;
 pub mod provided;
 pub mod reflect;
