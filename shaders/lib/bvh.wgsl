@@ -37,6 +37,9 @@ const BVH_NO_HIT: u32 = 0xffffffffu;
 // each slab by this much means a box the ray touches is never missed, nor culled when it holds
 // a triangle exactly as near as the best hit so far (ties resolve by index).
 const BVH_SLAB_SLACK: f32 = 3.5762793e-7;
+// 2^-20 (16 u): more than a slab distance's rounding (three roundings, or 2.5 ulps for a GPU's
+// inexact division and two more) plus that of the product that grows it; 1 +- it is exact.
+const BVH_BOX_GROWTH: f32 = 9.536743e-7;
 // Below the smallest normal f32 a direction component counts as 0 (this covers -0): the slab
 // test then asks whether the origin lies inside the slab instead of dividing by zero.
 const BVH_MIN_NORMAL: f32 = 1.17549435e-38;
@@ -254,6 +257,22 @@ fn bvh_intersect_box(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax:
     return t0 <= t1;
 }
 
+// The box test of rays with no flat axis (every 1/dir finite and nonzero: no slab needs the
+// origin-inside case), about half the operations of bvh_intersect_box: it grows only the
+// farthest near and the nearest far distance, by BVH_BOX_GROWTH (growing is monotonic, so this
+// equals growing every slab), and multiplies instead of adding a multiple of the magnitude.
+// A near distance below 0 then shrinks toward 0, which can only miss a box the ray meets at
+// t <= 0 alone, where no hit lies (bvh_intersect_triangle rejects t <= 0).
+fn bvh_intersect_box_moving(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax: f32) -> bool {
+    let t_lo = (lo - ray.origin) * ray.inv_dir;
+    let t_hi = (hi - ray.origin) * ray.inv_dir;
+    let near = min(t_lo, t_hi);
+    let far = max(t_lo, t_hi);
+    let t0 = max(tmin, max(near.x, max(near.y, near.z)) * (1.0 - BVH_BOX_GROWTH));
+    let t1 = min(tmax, min(far.x, min(far.y, far.z)) * (1.0 + BVH_BOX_GROWTH));
+    return t0 <= t1;
+}
+
 // The node after `node` (at index i) when its box is missed. Interior nodes jump to their
 // skip link; max() keeps every step increasing even on a zero-padded node array.
 fn bvh_miss_link(node: BvhNode, i: u32) -> u32 {
@@ -272,16 +291,23 @@ struct BvhWalk {
 }
 
 // Visits one node once the current leaf's triangles are all tested: a leaf whose box the ray
-// meets queues its triangles. Interleaving single node visits and single triangle tests keeps
+// meets queues its triangles. `flat`: whether the ray has a flat axis, which picks the box test. Interleaving single node visits and single triangle tests keeps
 // SIMD lanes busy: a GPU (or lavapipe) runs each iteration at the pace of its slowest lane, and
 // a nested loop over a leaf's triangles would make every lane wait for the largest leaf.
-fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32) -> BvhWalk {
+fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> BvhWalk {
     if (walk.next < walk.end || walk.node >= scene_node_count) {
         return walk;
     }
     let i = walk.node;
     let node = scene_node(bvh, i);
-    if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax)) {
+    var hit: bool;
+    // `flat` is a constant in each inlined copy of the loop: no branch per node.
+    if (flat) {
+        hit = bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax);
+    } else {
+        hit = bvh_intersect_box_moving(ray, node.lo, node.hi, tmin, tmax);
+    }
+    if (!hit) {
         return BvhWalk(bvh_miss_link(node, i), walk.next, walk.end);
     }
     if (node.count > 0u) {
@@ -299,9 +325,20 @@ var<private> bvh_rays_traced: u32;
 fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
+    // Two copies of the loop, one per box test: only rays with a flat axis (rare) need the
+    // slower one, and a SIMD group runs that copy only if one of its lanes has such a ray.
+    if (any(ray.flat_axes)) {
+        return bvh_closest_hit(ray, tmin, tmax, true);
+    }
+    return bvh_closest_hit(ray, tmin, tmax, false);
+}
+
+// closest_hit's loop; `flat` says which box test (see bvh_step). Each iteration tests at most
+// one triangle and visits at most two nodes: node visits outnumber triangle tests about ten to
+// one, and a second visit costs less than another trip round the loop.
+fn bvh_closest_hit(ray: BvhRay, tmin: f32, tmax: f32, flat: bool) -> Hit {
     var best = Hit(tmax, 0.0, 0.0, BVH_NO_HIT);
     var walk = BvhWalk(0u, 0u, 0u);
-    // Each step tests at most one triangle and visits at most one node: see bvh_step.
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
             let k = walk.next;
@@ -312,7 +349,7 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
             }
             walk.next = k + 1u;
         }
-        walk = bvh_step(ray, walk, tmin, best.t);
+        walk = bvh_step(ray, bvh_step(ray, walk, tmin, best.t, flat), tmin, best.t, flat);
     }
     return best;
 }
@@ -321,6 +358,14 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
 fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
+    if (any(ray.flat_axes)) {
+        return bvh_any_hit(ray, tmin, tmax, true);
+    }
+    return bvh_any_hit(ray, tmin, tmax, false);
+}
+
+// any_hit's loop, as bvh_closest_hit's.
+fn bvh_any_hit(ray: BvhRay, tmin: f32, tmax: f32, flat: bool) -> bool {
     var walk = BvhWalk(0u, 0u, 0u);
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
@@ -330,7 +375,7 @@ fn any_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
             }
             walk.next = walk.next + 1u;
         }
-        walk = bvh_step(ray, walk, tmin, tmax);
+        walk = bvh_step(ray, bvh_step(ray, walk, tmin, tmax, flat), tmin, tmax, flat);
     }
     return false;
 }
