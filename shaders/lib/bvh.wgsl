@@ -1,9 +1,11 @@
 // Ray queries against the threaded BVH: closest_hit and any_hit. src/scene/intersect.rs is the
-// CPU twin of this file's box and triangle tests, operation for operation (but for the
-// triangle test's certain-miss shortcut, which cannot change an answer); it visits the same
-// nodes and triangles, with each leaf's triangles tested right away rather than interleaved with
-// node visits (bvh_step), which cannot change an answer: ties resolve by triangle index. Tests
-// hold both to a brute-force oracle.
+// CPU twin of this file's box and triangle tests, operation for operation, but for the
+// triangle test's certain-miss shortcut and the box test of rays with no flat axis
+// (bvh_intersect_box_moving, on grid cells, which may enter a box the exact test misses by a
+// hair), neither of which can change an answer; it visits the same nodes and triangles (but
+// for those hairs), with each leaf's triangles tested right away rather than interleaved with
+// node visits (bvh_step), which cannot change an answer either: ties resolve by triangle
+// index. Tests hold both to a brute-force oracle.
 //
 // Contract with the including shader:
 //   #include "lib/scene.wgsl"     // first: Triangle, BvhNode, the texel-view readers, and
@@ -37,9 +39,9 @@ const BVH_NO_HIT: u32 = 0xffffffffu;
 // each slab by this much means a box the ray touches is never missed, nor culled when it holds
 // a triangle exactly as near as the best hit so far (ties resolve by index).
 const BVH_SLAB_SLACK: f32 = 3.5762793e-7;
-// 2^-20 (16 u): more than a slab distance's rounding (three roundings, or 2.5 ulps for a GPU's
-// inexact division and two more) plus that of the product that grows it; 1 +- it is exact.
-const BVH_BOX_GROWTH: f32 = 9.536743e-7;
+// 2^-20 (16 u): more than the relative rounding of a grid cell's slab distance (1/dir's, by
+// up to 2.5 ulps on a GPU, the difference's, the products', the sum's and the slack's own).
+const BVH_CELL_SLACK: f32 = 9.536743e-7;
 // Below the smallest normal f32 a direction component counts as 0 (this covers -0): the slab
 // test then asks whether the origin lies inside the slab instead of dividing by zero.
 const BVH_MIN_NORMAL: f32 = 1.17549435e-38;
@@ -55,6 +57,12 @@ struct BvhRay {
     ky: u32,
     kz: u32,
     shear: vec3<f32>,
+    // The grid node boxes lie on, and the slab distances of grid cells q:
+    // q * cell_scale + cell_offset, within cell_slack (see bvh_intersect_box_moving).
+    grid: BvhGrid,
+    cell_scale: vec3<f32>,
+    cell_offset: vec3<f32>,
+    cell_slack: vec3<f32>,
 }
 
 struct BvhTriangleHit {
@@ -87,7 +95,11 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
     }
     let shear = vec3<f32>(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
     bvh_zero = select(0u, 1u, all(dir == vec3<f32>(0.0)));
-    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear);
+    let grid = scene_bvh_grid(bvh);
+    let cell_scale = grid.step * inv_dir;
+    let cell_offset = (grid.origin - origin) * inv_dir;
+    let cell_slack = BVH_CELL_SLACK * (65536.0 * abs(cell_scale) + abs(cell_offset));
+    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale, cell_offset, cell_slack);
 }
 
 // 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the
@@ -258,18 +270,19 @@ fn bvh_intersect_box(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax:
 }
 
 // The box test of rays with no flat axis (every 1/dir finite and nonzero: no slab needs the
-// origin-inside case), about half the operations of bvh_intersect_box: it grows only the
-// farthest near and the nearest far distance, by BVH_BOX_GROWTH (growing is monotonic, so this
-// equals growing every slab), and multiplies instead of adding a multiple of the magnitude.
-// A near distance below 0 then shrinks toward 0, which can only miss a box the ray meets at
-// t <= 0 alone, where no hit lies (bvh_intersect_triangle rejects t <= 0).
-fn bvh_intersect_box_moving(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax: f32) -> bool {
-    let t_lo = (lo - ray.origin) * ray.inv_dir;
-    let t_hi = (hi - ray.origin) * ray.inv_dir;
-    let near = min(t_lo, t_hi);
-    let far = max(t_lo, t_hi);
-    let t0 = max(tmin, max(near.x, max(near.y, near.z)) * (1.0 - BVH_BOX_GROWTH));
-    let t1 = min(tmax, min(far.x, min(far.y, far.z)) * (1.0 + BVH_BOX_GROWTH));
+// origin-inside case), straight from a packed node's grid cells q: the slab distance
+// (origin + q step - o) / dir is q * cell_scale + cell_offset (per ray: step * inv_dir, exact
+// for a power-of-two step, and (origin - o) * inv_dir), no decoding. Its rounding error is
+// below BVH_CELL_SLACK * (65536 |cell_scale| + |cell_offset|) (bvh_prepare_ray): that much
+// widens every slab, so the test never misses a box bvh_intersect_box meets, and may enter
+// one it misses by a hair.
+fn bvh_intersect_box_moving(ray: BvhRay, node: PackedBvhNode, tmin: f32, tmax: f32) -> bool {
+    let t_lo = scene_node_cells_lo(node) * ray.cell_scale + ray.cell_offset;
+    let t_hi = scene_node_cells_hi(node) * ray.cell_scale + ray.cell_offset;
+    let near = min(t_lo, t_hi) - ray.cell_slack;
+    let far = max(t_lo, t_hi) + ray.cell_slack;
+    let t0 = max(tmin, max(near.x, max(near.y, near.z)));
+    let t1 = min(tmax, min(far.x, min(far.y, far.z)));
     return t0 <= t1;
 }
 
@@ -299,13 +312,15 @@ fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> Bvh
         return walk;
     }
     let i = walk.node;
-    let node = scene_node(bvh, i);
+    let packed = scene_packed_node(bvh, i);
+    let node = scene_node_links(packed);
     var hit: bool;
     // `flat` is a constant in each inlined copy of the loop: no branch per node.
     if (flat) {
-        hit = bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax);
+        let box = scene_node(bvh, ray.grid, i);
+        hit = bvh_intersect_box(ray, box.lo, box.hi, tmin, tmax);
     } else {
-        hit = bvh_intersect_box_moving(ray, node.lo, node.hi, tmin, tmax);
+        hit = bvh_intersect_box_moving(ray, packed, tmin, tmax);
     }
     if (!hit) {
         return BvhWalk(bvh_miss_link(node, i), walk.next, walk.end);

@@ -43,12 +43,6 @@ pub struct TriangleHit {
 /// neighbour across a shared edge), so ties resolve by index as in brute force.
 const SLAB_SLACK: f32 = 2.0 * 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
-/// How much [`intersect_box`] grows a ray's nearest far and farthest near distance when the ray
-/// has no flat axis (2⁻²⁰, `BVH_BOX_GROWTH` in bvh.wgsl): more than a slab distance's rounding
-/// (three roundings, or a GPU's division inexact by 2.5 ulps and two more) plus that of the
-/// product that grows it. `1 ± BOX_GROWTH` is exact.
-const BOX_GROWTH: f32 = 1.0 / (1u32 << 20) as f32;
-
 /// Per-ray values every box and triangle test shares.
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedRay {
@@ -209,19 +203,8 @@ pub fn intersect_triangle(
 
 /// Whether the ray meets the box `[lo, hi]` for some t in [tmin, tmax] (inclusive, so a box
 /// touching the current nearest hit is still visited: it may hold an equally near triangle
-/// with a smaller index). For a ray with no flat axis, the cheaper test bvh.wgsl runs for such
-/// rays, which may also miss a box the ray meets only at t <= 0, where no hit lies
-/// ([`intersect_triangle`] rejects t <= 0): the ray's slabs need no origin-inside case, and
-/// only the farthest near and nearest far distance are grown, by a factor (growing is
-/// monotonic, so this equals growing every slab; a negative near distance shrinks toward 0).
+/// with a smaller index).
 pub fn intersect_box(ray: &PreparedRay, lo: Vec3, hi: Vec3, tmin: f32, tmax: f32) -> bool {
-    if !ray.flat.any() {
-        let t_lo = (lo - ray.origin) * ray.inv_dir;
-        let t_hi = (hi - ray.origin) * ray.inv_dir;
-        let t0 = tmin.max(t_lo.min(t_hi).max_element() * (1.0 - BOX_GROWTH));
-        let t1 = tmax.min(t_lo.max(t_hi).min_element() * (1.0 + BOX_GROWTH));
-        return t0 <= t1;
-    }
     let o = ray.origin;
     let outside = o.cmplt(lo) | o.cmpgt(hi);
     if (ray.flat & outside).any() {
