@@ -6,8 +6,9 @@
 //! the pace of the slowest, so `simd` is the mean over groups of 8 of (max iterations) /
 //! (mean iterations).
 //!
-//! `cargo run --release --example traversal_stats -- SCENE.ron [SIZE]` (default 128: a SIZE x
-//! SIZE image, one sample per pixel, one bounce and one shadow ray per hit).
+//! `cargo run --release --example traversal_stats -- SCENE.ron [SIZE] [--unsnapped]` (default
+//! 128: a SIZE x SIZE image, one sample per pixel, one bounce and one shadow ray per hit, ray
+//! origins offset as shaders/lib/sampling.wgsl does).
 
 use glam::Vec3;
 use passgraph::scene::intersect::{PreparedRay, intersect_box, intersect_triangle};
@@ -95,6 +96,29 @@ fn traverse(
     best
 }
 
+/// `--unsnapped`: each box as the build made it before snapping to the grid (the triangles'
+/// bounds grown by 2^-21 of their largest coordinate), to see what the grid costs.
+fn unsnap(nodes: &mut [BvhNode], triangles: &[Triangle], i: usize) -> (Vec3, Vec3, usize) {
+    let node = nodes[i];
+    let (lo, hi, end) = if node.count > 0 {
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for t in &triangles[node.a as usize..(node.a + node.count) as usize] {
+            for p in t.vertices() {
+                (lo, hi) = (lo.min(p), hi.max(p));
+            }
+        }
+        (lo, hi, i + 1)
+    } else {
+        let (l0, h0, left_end) = unsnap(nodes, triangles, i + 1);
+        let (l1, h1, end) = unsnap(nodes, triangles, left_end);
+        (l0.min(l1), h0.max(h1), end)
+    };
+    let pad = Vec3::splat(lo.abs().max(hi.abs()).max_element() / (1u32 << 21) as f32);
+    nodes[i].lo = (lo - pad).into();
+    nodes[i].hi = (hi + pad).into();
+    (lo, hi, end)
+}
+
 /// SplitMix64, so runs repeat.
 struct Rng(u64);
 impl Rng {
@@ -105,6 +129,21 @@ impl Rng {
         z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
     }
+}
+
+/// shaders/lib/sampling.wgsl's offset_ray: 256 ulps along the normal, or n / 65536 near 0.
+fn offset_ray(p: Vec3, n: Vec3) -> Vec3 {
+    let mut out = p;
+    for k in 0..3 {
+        let of = (256.0 * n[k]) as i32;
+        let of = if p[k] < 0.0 { -of } else { of };
+        out[k] = if p[k].abs() < 1.0 / 32.0 {
+            p[k] + n[k] / 65536.0
+        } else {
+            f32::from_bits((p[k].to_bits() as i32).wrapping_add(of) as u32)
+        };
+    }
+    out
 }
 
 fn cosine(n: Vec3, u1: f32, u2: f32) -> Vec3 {
@@ -133,9 +172,12 @@ fn main() {
     let path = args
         .get(1)
         .map_or("scenes/cornell/scene.ron", |s| s.as_str());
-    let size: u32 = args.get(2).map_or(128, |s| s.parse().unwrap());
+    let size: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(128);
     let scene = load_scene(Path::new(path)).expect("scene");
-    let gpu = SceneGpu::build(&scene.mesh);
+    let mut gpu = SceneGpu::build(&scene.mesh);
+    if std::env::args().any(|a| a == "--unsnapped") {
+        unsnap(&mut gpu.nodes, &gpu.triangles, 0);
+    }
     let camera = scene.camera.to_gpu(size, size);
     let (nodes, tris) = (&gpu.nodes, &gpu.triangles);
     println!(
@@ -202,7 +244,7 @@ fn main() {
                 if n.dot(dir) > 0.0 {
                     n = -n;
                 }
-                let origin = ray.origin + t * dir + n * 1e-3;
+                let origin = offset_ray(ray.origin + t * dir, n);
                 // Shadow ray to a point on each light.
                 for light in &gpu.lights {
                     let (a, b) = (rng.unit(), rng.unit());
