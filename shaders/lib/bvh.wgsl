@@ -57,12 +57,15 @@ struct BvhRay {
     ky: u32,
     kz: u32,
     shear: vec3<f32>,
-    // The grid node boxes lie on, and the slab distances of grid cells q:
-    // q * cell_scale + cell_offset, within cell_slack (see bvh_intersect_box_moving).
+    // The grid node boxes lie on, and what bvh_intersect_box_moving needs: the slab distance
+    // of grid cell q is q * cell_scale + cell_offset, within a bound on its rounding; the near
+    // (far) end of each slab is the cell at bit near_shift (far_shift) of a packed node's bounds.
     grid: BvhGrid,
     cell_scale: vec3<f32>,
-    cell_offset: vec3<f32>,
-    cell_slack: vec3<f32>,
+    near_offset: vec3<f32>,
+    far_offset: vec3<f32>,
+    near_shift: vec3<u32>,
+    far_shift: vec3<u32>,
 }
 
 struct BvhTriangleHit {
@@ -99,7 +102,11 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
     let cell_scale = grid.step * inv_dir;
     let cell_offset = (grid.origin - origin) * inv_dir;
     let cell_slack = BVH_CELL_SLACK * (65536.0 * abs(cell_scale) + abs(cell_offset));
-    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale, cell_offset, cell_slack);
+    // Along a negative direction the high cell is the near one.
+    let near_shift = select(vec3<u32>(0u), vec3<u32>(16u), cell_scale < vec3<f32>(0.0));
+    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale,
+                  cell_offset - cell_slack, cell_offset + cell_slack, near_shift,
+                  vec3<u32>(16u) - near_shift);
 }
 
 // 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the
@@ -272,15 +279,14 @@ fn bvh_intersect_box(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax:
 // The box test of rays with no flat axis (every 1/dir finite and nonzero: no slab needs the
 // origin-inside case), straight from a packed node's grid cells q: the slab distance
 // (origin + q step - o) / dir is q * cell_scale + cell_offset (per ray: step * inv_dir, exact
-// for a power-of-two step, and (origin - o) * inv_dir), no decoding. Its rounding error is
-// below BVH_CELL_SLACK * (65536 |cell_scale| + |cell_offset|) (bvh_prepare_ray): that much
-// widens every slab, so the test never misses a box bvh_intersect_box meets, and may enter
-// one it misses by a hair.
+// for a power-of-two step, and (origin - o) * inv_dir), no decoding, and the direction's sign
+// says which cell is the near end, so no min and max. Its rounding error is below
+// BVH_CELL_SLACK * (65536 |cell_scale| + |cell_offset|) (bvh_prepare_ray): that much widens
+// every slab (folded into near_offset and far_offset), so the test never misses a box
+// bvh_intersect_box meets, and may enter one it misses by a hair.
 fn bvh_intersect_box_moving(ray: BvhRay, node: PackedBvhNode, tmin: f32, tmax: f32) -> bool {
-    let t_lo = scene_node_cells_lo(node) * ray.cell_scale + ray.cell_offset;
-    let t_hi = scene_node_cells_hi(node) * ray.cell_scale + ray.cell_offset;
-    let near = min(t_lo, t_hi) - ray.cell_slack;
-    let far = max(t_lo, t_hi) + ray.cell_slack;
+    let near = scene_node_cells(node, ray.near_shift) * ray.cell_scale + ray.near_offset;
+    let far = scene_node_cells(node, ray.far_shift) * ray.cell_scale + ray.far_offset;
     let t0 = max(tmin, max(near.x, max(near.y, near.z)));
     let t1 = min(tmax, min(far.x, min(far.y, far.z)));
     return t0 <= t1;
@@ -304,9 +310,10 @@ struct BvhWalk {
 }
 
 // Visits one node once the current leaf's triangles are all tested: a leaf whose box the ray
-// meets queues its triangles. `flat`: whether the ray has a flat axis, which picks the box test. Interleaving single node visits and single triangle tests keeps
-// SIMD lanes busy: a GPU (or lavapipe) runs each iteration at the pace of its slowest lane, and
-// a nested loop over a leaf's triangles would make every lane wait for the largest leaf.
+// meets queues its triangles. `flat` (whether the ray has a flat axis) picks the box test.
+// Interleaving node visits and single triangle tests keeps SIMD lanes busy: a GPU (or
+// lavapipe) runs each iteration at the pace of its slowest lane, and a nested loop over a
+// leaf's triangles would make every lane wait for the largest leaf.
 fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> BvhWalk {
     if (walk.next < walk.end || walk.node >= scene_node_count) {
         return walk;

@@ -153,13 +153,10 @@ fn scene_packed_node(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Pack
     return PackedBvhNode(texel.xyz, texel.w);
 }
 
-// The low and high grid cells of a packed node, as f32 (exact).
-fn scene_node_cells_lo(node: PackedBvhNode) -> vec3<f32> {
-    return vec3<f32>(node.bounds & vec3<u32>(0xffffu));
-}
-
-fn scene_node_cells_hi(node: PackedBvhNode) -> vec3<f32> {
-    return vec3<f32>(node.bounds >> vec3<u32>(16u));
+// A packed node's grid cells at bit `shift` of each axis (0: the low ones, 16: the high), as
+// f32 (exact).
+fn scene_node_cells(node: PackedBvhNode, shift: vec3<u32>) -> vec3<f32> {
+    return vec3<f32>((node.bounds >> shift) & vec3<u32>(0xffffu));
 }
 
 // A packed node's link and count, its box left at 0 (for a traversal that reads the box from
@@ -172,8 +169,8 @@ fn scene_node_links(node: PackedBvhNode) -> BvhNode {
 fn scene_node(view: texture_storage_2d<rgba32uint, read>, grid: BvhGrid, i: u32) -> BvhNode {
     let packed = scene_packed_node(view, i);
     var node = scene_node_links(packed);
-    node.lo = scene_node_cells_lo(packed) * grid.step + grid.origin;
-    node.hi = scene_node_cells_hi(packed) * grid.step + grid.origin;
+    node.lo = scene_node_cells(packed, vec3<u32>(0u)) * grid.step + grid.origin;
+    node.hi = scene_node_cells(packed, vec3<u32>(16u)) * grid.step + grid.origin;
     return node;
 }
 

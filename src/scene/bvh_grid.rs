@@ -32,7 +32,8 @@ impl Default for BvhGrid {
 impl BvhGrid {
     /// The grid covering the box `[lo, hi]` (the root's): per axis the smallest power-of-two step
     /// that spans it in QUANTA - 1 cells (one spare for the origin rounding down) and keeps
-    /// every grid value within 2^22 steps of 0, so that decoding is exact.
+    /// its coordinates within 2^22 steps of 0, so that every grid value is a multiple of the
+    /// step below 2^24 steps: exact in f32.
     pub fn covering(lo: Vec3, hi: Vec3) -> BvhGrid {
         let mut grid = BvhGrid::default();
         for k in 0..3 {
