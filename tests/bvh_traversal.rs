@@ -571,6 +571,49 @@ fn inside_the_grid_cube_every_axis_parallel_ray_hits_a_wall() {
 }
 
 #[test]
+fn packed_nodes_decode_exactly_to_the_node_boxes() {
+    // What the GPU decodes (origin + q * step in f32) must be the box the CPU twin traverses,
+    // at any scale and distance from the origin.
+    let mut rng = Rng(7);
+    for (offset, extent, size) in [
+        (Vec3::ZERO, 1.0, 0.05),
+        (Vec3::new(1e6, -3e5, 2e4), 10.0, 0.5),
+        (Vec3::splat(-2e-3), 1e-3, 1e-4),
+        (Vec3::new(3e12, 0.0, -1e13), 1e9, 1e7),
+    ] {
+        let soup: Vec<[Vec3; 3]> = random_soup(&mut rng, 500, extent, size)
+            .into_iter()
+            .map(|t| t.map(|p| p + offset))
+            .collect();
+        let scene = scene(&soup);
+        let bytes = scene.bvh_bytes();
+        assert_eq!(bytes.len(), 32 + 16 * scene.nodes.len());
+        let grid = scene.grid;
+        for node in &scene.nodes {
+            let packed = grid.encode(node);
+            for k in 0..3 {
+                let decode = |q: u32| q as f32 * grid.step[k] + grid.origin[k];
+                assert_eq!(
+                    decode(packed.bounds[k] & 0xffff),
+                    node.lo[k],
+                    "{offset}: lo"
+                );
+                assert_eq!(decode(packed.bounds[k] >> 16), node.hi[k], "{offset}: hi");
+            }
+            assert_eq!(packed.link & 0x0fff_ffff, node.a);
+            assert_eq!(packed.link >> 28, node.count);
+        }
+        for _ in 0..200 {
+            let ray = Ray {
+                origin: offset + rng.vec(-extent, 2.0 * extent),
+                dir: rng.dir(),
+            };
+            assert_matches_oracle(&scene, &ray, 0.0, f32::MAX);
+        }
+    }
+}
+
+#[test]
 fn empty_and_all_degenerate_soups_have_no_nodes_and_no_hits() {
     for triangles in [vec![], vec![[Vec3::ONE; 3]; 5]] {
         let scene = scene(&triangles);

@@ -250,6 +250,61 @@ fn slab_test_with_signed_zero_directions_on_faces_and_flat_boxes_matches_exact_r
     eprintln!("slab test: {cases} cases equal the exact reference ({hits} hits)");
 }
 
+#[test]
+fn slab_test_of_rays_without_a_flat_axis_matches_exact_reference() {
+    // Rays with no zero direction component take the cheaper test (one growth of the farthest
+    // near and the nearest far distance). On the lattice of quarter steps, with faces, edges
+    // and corners touched exactly and direction components from 1e-30 to 1e30, it must still
+    // give the exact answer.
+    let boxes = [
+        (Vec3::ZERO, Vec3::ONE),
+        (Vec3::new(0.0, 0.0, 0.5), Vec3::new(1.0, 1.0, 0.5)),
+        (Vec3::new(0.0, 0.5, 0.5), Vec3::new(1.0, 0.5, 0.5)),
+        (Vec3::splat(0.5), Vec3::splat(0.5)),
+        (Vec3::new(-0.25, 0.25, 0.5), Vec3::new(0.75, 1.5, 1.25)),
+    ];
+    let mut dirs = Vec::new();
+    for base in [
+        Vec3::ONE,
+        Vec3::new(1.0, 2.0, 4.0),
+        Vec3::new(3.0, 1.0, 0.5),
+        Vec3::new(1.0, 1e-20, 1e-20),
+        Vec3::new(1e-30, 1.0, 1e30),
+    ] {
+        for signs in 0..8 {
+            let flip = |bit: i32| if signs & bit == 0 { 1.0 } else { -1.0 };
+            dirs.push(base * Vec3::new(flip(1), flip(2), flip(4)));
+        }
+    }
+    let lattice: Vec<f32> = (-2..=6).map(|i| i as f32 * 0.25).collect();
+    let (mut cases, mut hits) = (0usize, 0usize);
+    for &(lo, hi) in &boxes {
+        for &x in &lattice {
+            for &y in &lattice {
+                for &z in &lattice {
+                    let o = Vec3::new(x, y, z);
+                    for &d in &dirs {
+                        let ray = PreparedRay::new(&Ray { origin: o, dir: d });
+                        for (tmin, tmax) in [(0.0f32, f32::MAX), (0.0, 0.5), (0.25, 1.0)] {
+                            let got = intersect_box(&ray, lo, hi, tmin, tmax);
+                            let want =
+                                box_reference(o, d, lo, hi, f64::from(tmin), f64::from(tmax));
+                            assert!(
+                                got == want,
+                                "box {lo}..{hi}, origin {o}, dir {d:?}, t in [{tmin}, {tmax}]: \
+                                 {got}, exact {want}"
+                            );
+                            cases += 1;
+                            hits += usize::from(got);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("slab test without flat axes: {cases} cases ({hits} hits)");
+}
+
 /// Recomputes every node's box as the exact bounds of its triangles (no padding), so leaves
 /// of axis-aligned triangles are exactly flat boxes.
 fn unpad(scene: &mut SceneGpu) {

@@ -5,7 +5,7 @@
 mod common;
 
 use common::root;
-use passgraph::scene::{BvhNode, Frame, GpuCamera, Material, Triangle};
+use passgraph::scene::{Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, Triangle};
 use std::mem::{offset_of, size_of};
 
 /// (field name, byte offset, byte size) of each Rust field, in declaration order.
@@ -52,9 +52,19 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
             }),
         ),
         (
-            "BvhNode",
-            size_of::<BvhNode>(),
-            fields!(BvhNode { lo, a, hi, count }),
+            "BvhGrid",
+            size_of::<GpuBvhGrid>(),
+            fields!(GpuBvhGrid {
+                origin,
+                pad0,
+                step,
+                pad1
+            }),
+        ),
+        (
+            "PackedBvhNode",
+            size_of::<PackedBvhNode>(),
+            fields!(PackedBvhNode { bounds, link }),
         ),
         (
             "Camera",

@@ -1,9 +1,11 @@
 // Ray queries against the threaded BVH: closest_hit and any_hit. src/scene/intersect.rs is the
-// CPU twin of this file's box and triangle tests, operation for operation (but for the
-// triangle test's certain-miss shortcut, which cannot change an answer); it visits the same
-// nodes and triangles, with each leaf's triangles tested right away rather than interleaved with
-// node visits (bvh_step), which cannot change an answer: ties resolve by triangle index. Tests
-// hold both to a brute-force oracle.
+// CPU twin of this file's box and triangle tests, operation for operation, but for the
+// triangle test's certain-miss shortcut and the box test of rays with no flat axis
+// (bvh_intersect_box_moving, on grid cells, which may enter a box the exact test misses by a
+// hair), neither of which can change an answer; it visits the same nodes and triangles (but
+// for those hairs), with each leaf's triangles tested right away rather than interleaved with
+// node visits (bvh_step), which cannot change an answer either: ties resolve by triangle
+// index. Tests hold both to a brute-force oracle.
 //
 // Contract with the including shader:
 //   #include "lib/scene.wgsl"     // first: Triangle, BvhNode, the texel-view readers, and
@@ -37,6 +39,9 @@ const BVH_NO_HIT: u32 = 0xffffffffu;
 // each slab by this much means a box the ray touches is never missed, nor culled when it holds
 // a triangle exactly as near as the best hit so far (ties resolve by index).
 const BVH_SLAB_SLACK: f32 = 3.5762793e-7;
+// 2^-20 (16 u): more than the relative rounding of a grid cell's slab distance (1/dir's, by
+// up to 2.5 ulps on a GPU, the difference's, the products', the sum's and the slack's own).
+const BVH_CELL_SLACK: f32 = 9.536743e-7;
 // Below the smallest normal f32 a direction component counts as 0 (this covers -0): the slab
 // test then asks whether the origin lies inside the slab instead of dividing by zero.
 const BVH_MIN_NORMAL: f32 = 1.17549435e-38;
@@ -52,6 +57,15 @@ struct BvhRay {
     ky: u32,
     kz: u32,
     shear: vec3<f32>,
+    // The grid node boxes lie on, and what bvh_intersect_box_moving needs: the slab distance
+    // of grid cell q is q * cell_scale + cell_offset, within a bound on its rounding; the near
+    // (far) end of each slab is the cell at bit near_shift (far_shift) of a packed node's bounds.
+    grid: BvhGrid,
+    cell_scale: vec3<f32>,
+    near_offset: vec3<f32>,
+    far_offset: vec3<f32>,
+    near_shift: vec3<u32>,
+    far_shift: vec3<u32>,
 }
 
 struct BvhTriangleHit {
@@ -84,7 +98,15 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
     }
     let shear = vec3<f32>(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
     bvh_zero = select(0u, 1u, all(dir == vec3<f32>(0.0)));
-    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear);
+    let grid = scene_bvh_grid(bvh);
+    let cell_scale = grid.step * inv_dir;
+    let cell_offset = (grid.origin - origin) * inv_dir;
+    let cell_slack = BVH_CELL_SLACK * (65536.0 * abs(cell_scale) + abs(cell_offset));
+    // Along a negative direction the high cell is the near one.
+    let near_shift = select(vec3<u32>(0u), vec3<u32>(16u), cell_scale < vec3<f32>(0.0));
+    return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale,
+                  cell_offset - cell_slack, cell_offset + cell_slack, near_shift,
+                  vec3<u32>(16u) - near_shift);
 }
 
 // 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the
@@ -254,6 +276,22 @@ fn bvh_intersect_box(ray: BvhRay, lo: vec3<f32>, hi: vec3<f32>, tmin: f32, tmax:
     return t0 <= t1;
 }
 
+// The box test of rays with no flat axis (every 1/dir finite and nonzero: no slab needs the
+// origin-inside case), straight from a packed node's grid cells q: the slab distance
+// (origin + q step - o) / dir is q * cell_scale + cell_offset (per ray: step * inv_dir, exact
+// for a power-of-two step, and (origin - o) * inv_dir), no decoding, and the direction's sign
+// says which cell is the near end, so no min and max. Its rounding error is below
+// BVH_CELL_SLACK * (65536 |cell_scale| + |cell_offset|) (bvh_prepare_ray): that much widens
+// every slab (folded into near_offset and far_offset), so the test never misses a box
+// bvh_intersect_box meets, and may enter one it misses by a hair.
+fn bvh_intersect_box_moving(ray: BvhRay, node: PackedBvhNode, tmin: f32, tmax: f32) -> bool {
+    let near = scene_node_cells(node, ray.near_shift) * ray.cell_scale + ray.near_offset;
+    let far = scene_node_cells(node, ray.far_shift) * ray.cell_scale + ray.far_offset;
+    let t0 = max(tmin, max(near.x, max(near.y, near.z)));
+    let t1 = min(tmax, min(far.x, min(far.y, far.z)));
+    return t0 <= t1;
+}
+
 // The node after `node` (at index i) when its box is missed. Interior nodes jump to their
 // skip link; max() keeps every step increasing even on a zero-padded node array.
 fn bvh_miss_link(node: BvhNode, i: u32) -> u32 {
@@ -272,16 +310,26 @@ struct BvhWalk {
 }
 
 // Visits one node once the current leaf's triangles are all tested: a leaf whose box the ray
-// meets queues its triangles. Interleaving single node visits and single triangle tests keeps
-// SIMD lanes busy: a GPU (or lavapipe) runs each iteration at the pace of its slowest lane, and
-// a nested loop over a leaf's triangles would make every lane wait for the largest leaf.
-fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32) -> BvhWalk {
+// meets queues its triangles. `flat` (whether the ray has a flat axis) picks the box test.
+// Interleaving node visits and single triangle tests keeps SIMD lanes busy: a GPU (or
+// lavapipe) runs each iteration at the pace of its slowest lane, and a nested loop over a
+// leaf's triangles would make every lane wait for the largest leaf.
+fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> BvhWalk {
     if (walk.next < walk.end || walk.node >= scene_node_count) {
         return walk;
     }
     let i = walk.node;
-    let node = scene_node(bvh, i);
-    if (!bvh_intersect_box(ray, node.lo, node.hi, tmin, tmax)) {
+    let packed = scene_packed_node(bvh, i);
+    let node = scene_node_links(packed);
+    var hit: bool;
+    // `flat` is a constant in each inlined copy of the loop: no branch per node.
+    if (flat) {
+        let box = scene_node(bvh, ray.grid, i);
+        hit = bvh_intersect_box(ray, box.lo, box.hi, tmin, tmax);
+    } else {
+        hit = bvh_intersect_box_moving(ray, packed, tmin, tmax);
+    }
+    if (!hit) {
         return BvhWalk(bvh_miss_link(node, i), walk.next, walk.end);
     }
     if (node.count > 0u) {
@@ -299,9 +347,20 @@ var<private> bvh_rays_traced: u32;
 fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
+    // Two copies of the loop, one per box test: only rays with a flat axis (rare) need the
+    // slower one, and a SIMD group runs that copy only if one of its lanes has such a ray.
+    if (any(ray.flat_axes)) {
+        return bvh_closest_hit(ray, tmin, tmax, true);
+    }
+    return bvh_closest_hit(ray, tmin, tmax, false);
+}
+
+// closest_hit's loop; `flat` says which box test (see bvh_step). Each iteration tests at most
+// one triangle and visits at most two nodes: node visits outnumber triangle tests about ten to
+// one, and a second visit costs less than another trip round the loop.
+fn bvh_closest_hit(ray: BvhRay, tmin: f32, tmax: f32, flat: bool) -> Hit {
     var best = Hit(tmax, 0.0, 0.0, BVH_NO_HIT);
     var walk = BvhWalk(0u, 0u, 0u);
-    // Each step tests at most one triangle and visits at most one node: see bvh_step.
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
             let k = walk.next;
@@ -312,7 +371,7 @@ fn closest_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> Hit {
             }
             walk.next = k + 1u;
         }
-        walk = bvh_step(ray, walk, tmin, best.t);
+        walk = bvh_step(ray, bvh_step(ray, walk, tmin, best.t, flat), tmin, best.t, flat);
     }
     return best;
 }
@@ -333,6 +392,14 @@ fn shadow_hit(origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
 fn bvh_any_hit_from(root: u32, origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tmax: f32) -> bool {
     bvh_rays_traced += 1u;
     let ray = bvh_prepare_ray(origin, dir);
+    if (any(ray.flat_axes)) {
+        return bvh_any_hit(ray, root, tmin, tmax, true);
+    }
+    return bvh_any_hit(ray, root, tmin, tmax, false);
+}
+
+// any_hit's loop from node `root`, as bvh_closest_hit's.
+fn bvh_any_hit(ray: BvhRay, root: u32, tmin: f32, tmax: f32, flat: bool) -> bool {
     var walk = BvhWalk(root, 0u, 0u);
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
@@ -342,7 +409,7 @@ fn bvh_any_hit_from(root: u32, origin: vec3<f32>, dir: vec3<f32>, tmin: f32, tma
             }
             walk.next = walk.next + 1u;
         }
-        walk = bvh_step(ray, walk, tmin, tmax);
+        walk = bvh_step(ray, bvh_step(ray, walk, tmin, tmax, flat), tmin, tmax, flat);
     }
     return false;
 }

@@ -42,7 +42,7 @@ struct Light {
 
 const LIGHT_NO_TRIANGLE: u32 = 0xffffffffu;
 
-// A threaded BVH node (32 bytes). Interior: count == 0, `a` is the miss link (skip); the hit
+// A threaded BVH node, decoded (scene.bvh stores it packed: PackedBvhNode). Interior: count == 0, `a` is the miss link (skip); the hit
 // link is implicit (this index + 1). Leaf: count > 0 triangles from index `a`; a leaf's next
 // node is always this index + 1. Traversal ends at index == scene_node_count.
 struct BvhNode {
@@ -50,6 +50,23 @@ struct BvhNode {
     a: u32,
     hi: vec3<f32>,
     count: u32,
+}
+
+// The grid node boxes lie on (src/scene/bvh_grid.rs), the first two texels of scene.bvh: a box
+// coordinate is origin + q * step, q a 16-bit integer, step a power of two; exact in f32.
+struct BvhGrid {
+    origin: vec3<f32>,
+    pad0: u32,
+    step: vec3<f32>,
+    pad1: u32,
+}
+
+// A node as scene.bvh stores it after the grid, one texel: per axis the box's low grid cell in
+// the low 16 bits and its high cell in the high 16; `link` is BvhNode's `a` with its count in
+// the top 4 bits.
+struct PackedBvhNode {
+    bounds: vec3<u32>,
+    link: u32,
 }
 
 // Pinhole camera. `right` and `up` are scaled so that a pixel's direction is
@@ -125,11 +142,38 @@ fn scene_light(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Light {
                  bitcast<vec3<f32>>(c.xyz), c.w);
 }
 
-// Node i of a scene.bvh view (2 texels each).
-fn scene_node(view: texture_storage_2d<rgba32uint, read>, i: u32) -> BvhNode {
-    let a = scene_texel(view, 2u * i);
-    let b = scene_texel(view, 2u * i + 1u);
-    return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
+// The grid of a scene.bvh view (its first two texels).
+fn scene_bvh_grid(view: texture_storage_2d<rgba32uint, read>) -> BvhGrid {
+    let a = scene_texel(view, 0u);
+    let b = scene_texel(view, 1u);
+    return BvhGrid(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
+}
+
+// Node i of a scene.bvh view as stored (one texel after the grid).
+fn scene_packed_node(view: texture_storage_2d<rgba32uint, read>, i: u32) -> PackedBvhNode {
+    let texel = scene_texel(view, i + 2u);
+    return PackedBvhNode(texel.xyz, texel.w);
+}
+
+// A packed node's grid cells at bit `shift` of each axis (0: the low ones, 16: the high), as
+// f32 (exact).
+fn scene_node_cells(node: PackedBvhNode, shift: vec3<u32>) -> vec3<f32> {
+    return vec3<f32>((node.bounds >> shift) & vec3<u32>(0xffffu));
+}
+
+// A packed node's link and count, its box left at 0 (for a traversal that reads the box from
+// the cells).
+fn scene_node_links(node: PackedBvhNode) -> BvhNode {
+    return BvhNode(vec3<f32>(0.0), node.link & 0x0fffffffu, vec3<f32>(0.0), node.link >> 28u);
+}
+
+// Node i of a scene.bvh view, its box decoded on `grid` (scene_bvh_grid).
+fn scene_node(view: texture_storage_2d<rgba32uint, read>, grid: BvhGrid, i: u32) -> BvhNode {
+    let packed = scene_packed_node(view, i);
+    var node = scene_node_links(packed);
+    node.lo = scene_node_cells(packed, vec3<u32>(0u)) * grid.step + grid.origin;
+    node.hi = scene_node_cells(packed, vec3<u32>(16u)) * grid.step + grid.origin;
+    return node;
 }
 
 // Entry i of a scene.light_power view (four f32 per texel).

@@ -412,10 +412,7 @@ fn provided_data(
         "scene.light_power".into(),
         bytemuck::cast_slice(&gpu.light_power).to_vec(),
     );
-    data.buffers.insert(
-        "scene.bvh".into(),
-        bytemuck::cast_slice(&gpu.nodes).to_vec(),
-    );
+    data.buffers.insert("scene.bvh".into(), gpu.bvh_bytes());
     data.buffers
         .insert("camera".into(), bytemuck::bytes_of(&camera).to_vec());
     data.buffers.insert(

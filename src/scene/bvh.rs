@@ -1,13 +1,15 @@
 //! The threaded BVH (docs/design.md §5): a binned SAH build on the CPU, flattened depth-first so that a
 //! node's first child is the next node and only the miss link (`skip`) is stored.
 
+use super::bvh_grid::{BvhGrid, MAX_ENCODED_LEAF};
 use super::gpu::BvhNode;
 use glam::Vec3;
 use std::time::{Duration, Instant};
 
 /// A node with more triangles than this is always split (unless the depth limit is reached).
 pub const MAX_LEAF_TRIANGLES: usize = 4;
-/// Beyond this depth every node is a leaf, so the build terminates on any input.
+/// Beyond this depth every node that fits a leaf ([`MAX_ENCODED_LEAF`] triangles) is one, and
+/// larger ones are halved, so the build terminates on any input.
 pub const MAX_DEPTH: usize = 64;
 /// SAH bins per axis.
 const BINS: usize = 16;
@@ -21,7 +23,9 @@ const BOX_PAD: f32 = 1.0 / (1u32 << 21) as f32;
 /// The flattened BVH and the order it puts the triangles in.
 #[derive(Clone, Debug)]
 pub struct Bvh {
+    /// Boxes on `grid`.
     pub nodes: Vec<BvhNode>,
+    pub grid: BvhGrid,
     /// `order[i]` is the input index of the triangle at position `i` in BVH order. Leaves hold
     /// ranges of positions; degenerate triangles are placed last, in no leaf.
     pub order: Vec<u32>,
@@ -164,11 +168,21 @@ impl Bvh {
         };
         order.extend(degenerate);
 
+        // Snapping grows every box, so children stay inside their parents.
+        let mut nodes = builder.nodes;
+        let grid = nodes.first().map_or_else(BvhGrid::default, |root| {
+            BvhGrid::covering(root.lo.into(), root.hi.into())
+        });
+        for node in &mut nodes {
+            let (lo, hi) = grid.snap(node.lo.into(), node.hi.into());
+            (node.lo, node.hi) = (lo.into(), hi.into());
+        }
         let mut stats = builder.stats;
-        stats.node_count = builder.nodes.len();
+        stats.node_count = nodes.len();
         stats.build_time = start.elapsed();
         Bvh {
-            nodes: builder.nodes,
+            nodes,
+            grid,
             order,
             occluder_root,
             stats,
@@ -241,8 +255,11 @@ impl Builder {
         depth: usize,
     ) -> Option<usize> {
         let count = order.len();
-        if count <= 1 || depth >= MAX_DEPTH {
+        if count <= 1 || (depth >= MAX_DEPTH && count <= MAX_ENCODED_LEAF) {
             return None;
+        }
+        if depth >= MAX_DEPTH {
+            return Some(count / 2);
         }
         if let Some(split) = self.best_split(order, centroids) {
             // SAH, in units of one triangle test: a leaf tests all `count` triangles; a split

@@ -3,6 +3,7 @@
 //! triangles, BVH nodes) with the facts the shaders are specialised on.
 
 use super::bvh::{Bvh, BvhStats};
+use super::bvh_grid::BvhGrid;
 use super::file::Scene;
 use super::hull::hull_faces;
 use super::intersect::{self, Hit, Ray};
@@ -37,9 +38,10 @@ pub struct Material {
     pub pad1: f32,
 }
 
-/// A threaded BVH node. Interior: `count == 0` and `a` is the miss link (skip); the hit link
-/// is implicit (this index + 1). Leaf: `count > 0` triangles starting at index `a`; its next
-/// node is always this index + 1.
+/// A threaded BVH node as the build and the CPU twin see it, its box on the BVH's grid
+/// ([`BvhGrid`]); the GPU reads it as a [`PackedBvhNode`]. Interior: `count == 0` and `a` is the
+/// miss link (skip); the hit link is implicit (this index + 1). Leaf: `count > 0` triangles
+/// starting at index `a`; its next node is always this index + 1.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
@@ -47,6 +49,27 @@ pub struct BvhNode {
     pub a: u32,
     pub hi: [f32; 3],
     pub count: u32,
+}
+
+/// The head of the `scene.bvh` buffer (two texels): the grid node boxes are stored on
+/// ([`BvhGrid`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuBvhGrid {
+    pub origin: [f32; 3],
+    pub pad0: u32,
+    pub step: [f32; 3],
+    pub pad1: u32,
+}
+
+/// A BVH node as `scene.bvh` holds it after the grid, one texel: per axis the box's low grid
+/// cell in the low 16 bits and its high cell in the high 16; `link` is [`BvhNode::a`] with
+/// [`BvhNode::count`] in the top 4 bits (see [`BvhGrid::encode`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PackedBvhNode {
+    pub bounds: [u32; 3],
+    pub link: u32,
 }
 
 /// Pinhole camera, `right` and `up` scaled by the field of view and aspect (see
@@ -81,7 +104,8 @@ pub struct Frame {
 // WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
 const _: () = assert!(size_of::<Triangle>() == 48);
 const _: () = assert!(size_of::<Material>() == 48);
-const _: () = assert!(size_of::<BvhNode>() == 32);
+const _: () = assert!(size_of::<GpuBvhGrid>() == 32);
+const _: () = assert!(size_of::<PackedBvhNode>() == 16);
 const _: () = assert!(size_of::<GpuCamera>() == 64);
 const _: () = assert!(size_of::<Frame>() == 32);
 
@@ -163,6 +187,8 @@ pub struct SceneGpu {
     /// Where shadow rays start their traversal: the subtree without the scene's hull faces,
     /// which no shadow ray can meet (`hull.rs`). The `scene_occluder_root` override.
     pub occluder_root: u32,
+    /// The grid the node boxes lie on.
+    pub grid: BvhGrid,
     /// `lights.len()`: the `scene_light_count` override.
     pub light_count: u32,
     /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
@@ -200,9 +226,19 @@ impl SceneGpu {
             light_power,
             nodes: bvh.nodes,
             occluder_root: bvh.occluder_root,
+            grid: bvh.grid,
             has_specular,
             bvh: bvh.stats,
         }
+    }
+
+    /// The `scene.bvh` buffer: the grid, then each node as one texel.
+    pub fn bvh_bytes(&self) -> Vec<u8> {
+        let mut bytes = bytemuck::bytes_of(&self.grid.to_gpu()).to_vec();
+        for node in &self.nodes {
+            bytes.extend_from_slice(bytemuck::bytes_of(&self.grid.encode(node)));
+        }
+        bytes
     }
 
     /// The nearest hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.

@@ -4,6 +4,7 @@
 //! `shaders/lib/bvh.wgsl`, with the brute-force oracle the tests hold both to.
 
 pub mod bvh;
+pub mod bvh_grid;
 pub mod camera;
 pub mod error;
 pub mod file;
@@ -16,9 +17,10 @@ mod obj;
 mod ply;
 
 pub use bvh::{Bvh, BvhStats};
+pub use bvh_grid::BvhGrid;
 pub use camera::{CameraDesc, CameraError};
 pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, Scene, load_scene};
-pub use gpu::{BvhNode, Frame, GpuCamera, Material, SceneGpu, Triangle};
+pub use gpu::{BvhNode, Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, SceneGpu, Triangle};
 pub use intersect::{Hit, Ray};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};

@@ -92,7 +92,7 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
             .create_view(&Default::default())
     };
     let triangles = view("triangles", bytemuck::cast_slice(&scene.triangles));
-    let nodes = view("bvh", bytemuck::cast_slice(&scene.nodes));
+    let nodes = view("bvh", &scene.bvh_bytes());
     let query_buffer = storage("queries", bytemuck::cast_slice(queries));
     let size = (queries.len() * size_of::<Answer>()) as u64;
     let answers = device.create_buffer(&wgpu::BufferDescriptor {
