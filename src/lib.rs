@@ -14,8 +14,21 @@ pub mod scene;
 pub mod text_file;
 pub mod view;
 
-pub use graph::compile::{compile, compile_file};
 pub use graph::dot::to_dot;
 pub use graph::error::GraphError;
 pub use graph::load::{LoadedGraph, load_graph};
 pub use graph::plan::Plan;
+
+use std::path::Path;
+
+/// Loads and compiles a graph file for the path tracer: its passes may bind what
+/// [`render::provided::path_tracer`] provides. Another application passes its own set to
+/// [`graph::compile::compile_file`].
+pub fn compile_file(path: &Path, output_size: [u32; 2]) -> Result<Plan, GraphError> {
+    graph::compile::compile_file(path, output_size, render::provided::path_tracer())
+}
+
+/// Compiles a loaded graph for the path tracer (see [`compile_file`]).
+pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, GraphError> {
+    graph::compile::compile(graph, output_size, render::provided::path_tracer())
+}

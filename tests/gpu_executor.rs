@@ -355,9 +355,10 @@ fn texel_views_hold_a_provided_buffer_word_for_word_across_rows() {
     let mut provided =
         ProvidedData::default().with_buffer("scene.triangles", bytemuck::cast_slice(&words));
     // scene.wgsl declares the scene overrides; their values do not matter here.
-    for name in passgraph::graph::provided::PROVIDED_OVERRIDES
+    for name in passgraph::render::provided::path_tracer()
+        .overrides()
         .iter()
-        .map(|o| o.name)
+        .map(|o| o.name.as_str())
     {
         provided = provided.with_override(name, 0.0);
     }

@@ -265,7 +265,7 @@ fn dot_output_has_every_pass_and_marks_culled_ones() {
 }
 
 #[test]
-fn scene_overrides_need_no_param_and_are_listed_for_the_executor() {
+fn provided_overrides_need_no_param_and_are_listed_for_the_executor() {
     let s = Scratch::new();
     s.edit(
         "shaders/direct.wgsl",
@@ -280,7 +280,7 @@ fn scene_overrides_need_no_param_and_are_listed_for_the_executor() {
     let plan = s.compile("graphs/seed.ron").unwrap();
     let direct = plan.pass("direct").unwrap();
     assert_eq!(
-        direct.scene_overrides,
+        direct.provided_overrides,
         vec!["scene_light_count".to_string()]
     );
     assert!(direct.overrides.is_empty());

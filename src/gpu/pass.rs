@@ -50,7 +50,7 @@ impl PreparedPass {
             .iter()
             .map(|(name, value)| (name.as_str(), *value))
             .collect();
-        for name in &pass.scene_overrides {
+        for name in &pass.provided_overrides {
             let value = provided
                 .overrides
                 .get(name)

@@ -9,7 +9,7 @@ use super::interface::{Access, BindingKind, ShaderBinding};
 use super::load::LoadedPass;
 use super::param::ParamValue;
 use super::plan::{ParamsUniform, PlannedBinding, PlannedResource, ResourceKind};
-use super::provided::{ProvidedKind, provided_override};
+use super::provided::{ProvidedKind, ProvidedSet};
 use super::schedule::Usage;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -21,8 +21,8 @@ pub struct BoundPass {
     pub params: BTreeMap<String, ParamValue>,
     pub params_uniform: Option<ParamsUniform>,
     pub overrides: Vec<(String, f64)>,
-    /// Overrides the framework sets from the scene (see `provided::PROVIDED_OVERRIDES`).
-    pub scene_overrides: Vec<String>,
+    /// Overrides the application sets (see [`ProvidedSet::overrides`]).
+    pub provided_overrides: Vec<String>,
     pub workgroups: [u32; 3],
     /// One entry per resource, accesses merged over its bindings.
     pub uses: Vec<(ResourceId, Access)>,
@@ -31,7 +31,7 @@ pub struct BoundPass {
 
 /// Checks that a pass file's params match its shader: every `params` field and every
 /// `override` without default is a declared param of the same type, and every param is used.
-pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
+pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<(), GraphError> {
     let declared = &pass.decl.params;
     let shader = &pass.shader.path;
     if let Some((name, value)) = declared.iter().find(|(_, v)| !v.is_finite()) {
@@ -69,7 +69,7 @@ pub fn check_pass_params(pass: &LoadedPass) -> Result<(), GraphError> {
         }
     }
     for o in &pass.interface.overrides {
-        if let Some(p) = provided_override(&o.name) {
+        if let Some(p) = provided.get_override(&o.name) {
             if p.ty != o.ty {
                 return Err(GraphError::UnsupportedBinding {
                     shader: shader.clone(),
@@ -132,6 +132,7 @@ pub fn bind_instance(
     pass: &LoadedPass,
     resources: &[PlannedResource],
     output_size: [u32; 2],
+    provided: &ProvidedSet,
 ) -> Result<BoundPass, GraphError> {
     let graph_file = origin.file.as_path();
     let params = resolve_params(origin, instance, pass)?;
@@ -156,7 +157,7 @@ pub fn bind_instance(
                 known: resources.iter().map(|r| r.name.clone()).collect(),
             });
         };
-        if let Err(reason) = compatible(&b.kind, &resources[id]) {
+        if let Err(reason) = compatible(&b.kind, &resources[id], provided) {
             return Err(GraphError::BindingMismatch {
                 graph: graph_file.to_path_buf(),
                 pass: instance.name.clone(),
@@ -213,10 +214,10 @@ pub fn bind_instance(
         .iter()
         .filter_map(|o| Some((o.name.clone(), params.get(&o.name)?.as_override()?)))
         .collect();
-    let scene_overrides = shader
+    let provided_overrides = shader
         .overrides
         .iter()
-        .filter(|o| provided_override(&o.name).is_some())
+        .filter(|o| provided.get_override(&o.name).is_some())
         .map(|o| o.name.clone())
         .collect();
     let workgroups = match pass.decl.dispatch {
@@ -235,7 +236,7 @@ pub fn bind_instance(
         params,
         params_uniform,
         overrides,
-        scene_overrides,
+        provided_overrides,
         workgroups,
         uses,
         usages,
@@ -332,8 +333,15 @@ fn resolve_params(
 }
 
 /// Whether a shader binding can use a resource; `Err` says why not.
-fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), String> {
+fn compatible(
+    kind: &BindingKind,
+    resource: &PlannedResource,
+    provided: &ProvidedSet,
+) -> Result<(), String> {
     let name = &resource.name;
+    let readers = provided.texel_reader_file().map_or(String::new(), |f| {
+        format!(" (as the readers in {f} take it)")
+    });
     match (&resource.kind, kind) {
         (ResourceKind::Provided(p), _) => match (p, kind) {
             (ProvidedKind::Uniform, BindingKind::Uniform { .. }) => Ok(()),
@@ -364,7 +372,7 @@ fn compatible(kind: &BindingKind, resource: &PlannedResource) -> Result<(), Stri
                 "'{name}' is a uniform block provided by the framework; declare the binding var<uniform>, not {kind}"
             )),
             (ProvidedKind::StorageBuffer, _) => Err(format!(
-                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read> or, for its bytes as 16-byte texels, texture_storage_2d<rgba32uint, read> (as the readers in shaders/lib/scene.wgsl take it) or texture_2d<u32>; not {kind}"
+                "'{name}' is a storage buffer provided by the framework; declare the binding var<storage, read> or, for its bytes as 16-byte texels, texture_storage_2d<rgba32uint, read>{readers} or texture_2d<u32>; not {kind}"
             )),
         },
         (ResourceKind::Buffer { .. }, BindingKind::StorageTexture { .. })

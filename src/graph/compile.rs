@@ -2,6 +2,7 @@
 //! lifetimes and reuse. No GPU involved.
 
 use super::bind::{BoundPass, bind_instance, check_pass_params};
+use super::compose::check_include_targets;
 use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
 use super::deps::ResourceId;
 use super::deps::{Dependencies, DependencyError, PassUse, ReadSource};
@@ -11,19 +12,30 @@ use super::load::{LoadedGraph, load_graph};
 use super::plan::{
     CulledPass, PhysicalResource, Plan, PlannedEdge, PlannedPass, PlannedResource, ResourceKind,
 };
-use super::provided::PROVIDED;
+use super::provided::ProvidedSet;
 use super::schedule::{Schedule, schedule};
 use std::collections::BTreeSet;
 use std::path::Path;
 
-/// Loads and compiles a graph file for an output of `output_size` pixels.
-pub fn compile_file(path: &Path, output_size: [u32; 2]) -> Result<Plan, GraphError> {
-    compile(&load_graph(path)?, output_size)
+/// Loads and compiles a graph file for an output of `output_size` pixels, its passes binding
+/// what `provided` registers as well as the graph's own resources.
+pub fn compile_file(
+    path: &Path,
+    output_size: [u32; 2],
+    provided: &ProvidedSet,
+) -> Result<Plan, GraphError> {
+    compile(&load_graph(path)?, output_size, provided)
 }
 
-pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, GraphError> {
+pub fn compile(
+    graph: &LoadedGraph,
+    output_size: [u32; 2],
+    provided: &ProvidedSet,
+) -> Result<Plan, GraphError> {
     let file = graph.file.as_path();
     let decl = &graph.decl;
+    // Loading could not tell these apart from typos; the set can.
+    check_include_targets(&graph.include_targets, provided)?;
     if !decl.inputs.is_empty() {
         return Err(GraphError::Subgraph {
             graph: file.to_path_buf(),
@@ -33,9 +45,9 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
     check_unique_names(file, decl)?;
     check_not_empty(file, decl)?;
     for pass in graph.passes.values() {
-        check_pass_params(pass)?;
+        check_pass_params(pass, provided)?;
     }
-    let mut resources = resolve_resources(graph, output_size)?;
+    let mut resources = resolve_resources(graph, output_size, provided)?;
     let outputs = resolve_outputs(graph, &mut resources)?;
 
     let bound = decl
@@ -49,6 +61,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
                 pass,
                 &resources,
                 output_size,
+                provided,
             )
         })
         .collect::<Result<Vec<BoundPass>, _>>()?;
@@ -173,7 +186,7 @@ pub fn compile(graph: &LoadedGraph, output_size: [u32; 2]) -> Result<Plan, Graph
                 params: b.params.clone(),
                 params_uniform: b.params_uniform.clone(),
                 overrides: b.overrides.clone(),
-                scene_overrides: b.scene_overrides.clone(),
+                provided_overrides: b.provided_overrides.clone(),
                 uses: b.uses.clone(),
             }
         })
@@ -231,6 +244,7 @@ fn check_not_empty(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
 fn resolve_resources(
     graph: &LoadedGraph,
     [width, height]: [u32; 2],
+    provided: &ProvidedSet,
 ) -> Result<Vec<PlannedResource>, GraphError> {
     let decl = &graph.decl;
     let invalid = |name: &str, reason: String| GraphError::InvalidResource {
@@ -240,7 +254,7 @@ fn resolve_resources(
     };
     let mut out = Vec::new();
     for (name, r) in &decl.resources {
-        if PROVIDED.iter().any(|p| p.name == name) {
+        if provided.get(name).is_some() {
             return Err(invalid(
                 name,
                 "this name is provided by the framework; bind it without declaring it".into(),
@@ -323,8 +337,8 @@ fn resolve_resources(
             physical: None,
         });
     }
-    out.extend(PROVIDED.iter().map(|p| PlannedResource {
-        name: p.name.to_string(),
+    out.extend(provided.resources().iter().map(|p| PlannedResource {
+        name: p.name.clone(),
         origin: None,
         kind: ResourceKind::Provided(p.kind),
         // Provided content exists before the frame, like a persistent resource's.

@@ -5,7 +5,7 @@
 use super::decl::{GraphDecl, IncludeDecl, PassInstanceDecl};
 use super::error::{GraphError, list};
 use super::load::{clean, parse_ron, read_text};
-use super::provided::PROVIDED;
+use super::provided::ProvidedSet;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -47,6 +47,34 @@ pub struct Flattened {
     pub origins: Origins,
     /// Every graph file read, the top file first.
     pub files: Vec<PathBuf>,
+    /// Include inputs bound to names no graph file declares: they must be provided, which only
+    /// the application's `ProvidedSet` can tell (see [`check_include_targets`]).
+    pub include_targets: Vec<IncludeTarget>,
+}
+
+/// An include input bound to a name that is not a resource of the including graph, and the
+/// error to report if the application does not provide it either.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IncludeTarget {
+    pub name: String,
+    pub file: PathBuf,
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+/// The first include input bound to a name neither declared nor in `provided`.
+pub fn check_include_targets(
+    targets: &[IncludeTarget],
+    provided: &ProvidedSet,
+) -> Result<(), GraphError> {
+    match targets.iter().find(|t| provided.get(&t.name).is_none()) {
+        Some(t) => Err(GraphError::Compose {
+            file: t.file.clone(),
+            line: t.line,
+            message: t.message.clone(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Reads `file` and everything it extends or includes, and flattens it.
@@ -168,6 +196,7 @@ fn apply(
             decl: GraphDecl::default(),
             origins: Origins::default(),
             files: Vec::new(),
+            include_targets: Vec::new(),
         },
     };
     g.files.insert(0, file.to_path_buf());
@@ -439,14 +468,18 @@ fn join(
                 names(&sub.decl.inputs)
             ));
         }
-        let known = g.decl.resources.contains_key(target)
-            || g.decl.inputs.contains(target)
-            || PROVIDED.iter().any(|p| p.name == target);
-        if !known {
-            return fail(format!(
-                "input '{input}' -> '{target}', which is neither a resource of this graph nor provided (resources: {})",
-                names(g.decl.resources.keys())
-            ));
+        let declared = g.decl.resources.contains_key(target) || g.decl.inputs.contains(target);
+        if !declared {
+            // The same error `fail` would make, reported by compile unless provided.
+            g.include_targets.push(IncludeTarget {
+                name: target.clone(),
+                file: source.file.to_path_buf(),
+                line: line_of(source.text, key, file),
+                message: format!(
+                    "include \"{file}\": input '{input}' -> '{target}', which is neither a resource of this graph nor provided (resources: {})",
+                    names(g.decl.resources.keys())
+                ),
+            });
         }
     }
     for output in include.outputs.keys() {
@@ -523,6 +556,7 @@ fn join(
         }
     }
     g.files.extend(sub.files);
+    g.include_targets.extend(sub.include_targets);
     Ok(())
 }
 

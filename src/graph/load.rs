@@ -1,6 +1,6 @@
 //! Reading graph and pass files from disk: RON with positions, pass lookup, shaders and reflection.
 
-use super::compose::{Flattened, Origins, PassOrigin, flatten};
+use super::compose::{Flattened, IncludeTarget, Origins, PassOrigin, flatten};
 use super::decl::{GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
@@ -31,6 +31,8 @@ pub struct LoadedGraph {
     pub graph_files: Vec<PathBuf>,
     /// Keyed by the `pass` name used in the graph.
     pub passes: BTreeMap<String, LoadedPass>,
+    /// Include inputs bound to names only a `ProvidedSet` can resolve.
+    pub include_targets: Vec<IncludeTarget>,
 }
 
 pub fn read_text(path: &Path) -> Result<String, GraphError> {
@@ -141,6 +143,7 @@ pub fn load_flattened(file: &Path, flat: Flattened) -> Result<LoadedGraph, Graph
         origins: flat.origins,
         graph_files: flat.files,
         passes,
+        include_targets: flat.include_targets,
     })
 }
 

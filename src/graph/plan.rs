@@ -24,12 +24,12 @@ pub enum ResourceKind {
     Buffer {
         size: u64,
     },
-    /// Owned by the framework (scene data, camera, frame); sized by the scene.
+    /// Owned by the application (registered in a `ProvidedSet`), which sizes and fills it.
     Provided(ProvidedKind),
 }
 
 impl ResourceKind {
-    /// Bytes the graph allocates for it; provided resources are the scene's, not the graph's.
+    /// Bytes the graph allocates for it; provided resources are the application's, not the graph's.
     pub fn bytes(&self) -> u64 {
         match *self {
             ResourceKind::Texture {
@@ -110,8 +110,8 @@ pub struct PlannedPass {
     pub params_uniform: Option<ParamsUniform>,
     /// Pipeline-overridable constants set from params.
     pub overrides: Vec<(String, f64)>,
-    /// Pipeline-overridable constants the executor sets from the scene.
-    pub scene_overrides: Vec<String>,
+    /// Pipeline-overridable constants the application provides (in `ProvidedData`).
+    pub provided_overrides: Vec<String>,
     /// Each resource touched, with the union of its bindings' accesses.
     pub uses: Vec<(ResourceId, Access)>,
 }

@@ -1,109 +1,145 @@
-//! Resources the framework provides by well-known names, which passes bind like any other.
+//! Resources and overrides an application provides by name, which passes bind like their own.
+//! The compiler knows none of them: the application registers them in a [`ProvidedSet`] and
+//! passes it to `compile`, and fills their data from the same registration.
 
 use super::param::ParamType;
 
 /// How a provided resource is bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ProvidedKind {
-    /// A read-only storage buffer whose size comes from the scene.
+    /// A read-only storage buffer, also bindable as a texel view of its bytes.
     StorageBuffer,
-    /// A uniform block the framework fills every frame.
+    /// A uniform block the application may update every frame.
     Uniform,
 }
 
-/// A well-known resource: the scene's geometry, the camera, the frame counter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// A resource the application provides.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Provided {
-    pub name: &'static str,
+    pub name: String,
     pub kind: ProvidedKind,
-    pub what: &'static str,
+    /// What it holds, for messages and listings.
+    pub what: String,
 }
 
-pub const PROVIDED: &[Provided] = &[
-    Provided {
-        name: "scene.triangles",
-        kind: ProvidedKind::StorageBuffer,
-        what: "triangles: three vertices and a material index each",
-    },
-    Provided {
-        name: "scene.materials",
-        kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file",
-    },
-    Provided {
-        name: "scene.lights",
-        kind: ProvidedKind::StorageBuffer,
-        what: "the lights: emissive triangles, and parallelograms of two (p0, e1, e2, material, triangles; 48 bytes each)",
-    },
-    Provided {
-        name: "scene.light_power",
-        kind: ProvidedKind::StorageBuffer,
-        what: "f32 power of each light (area x luminance of Ke), in scene.lights order",
-    },
-    Provided {
-        name: "scene.bvh",
-        kind: ProvidedKind::StorageBuffer,
-        what: "threaded BVH nodes",
-    },
-    Provided {
-        name: "camera",
-        kind: ProvidedKind::Uniform,
-        what: "the pinhole camera",
-    },
-    Provided {
-        name: "camera_previous",
-        kind: ProvidedKind::Uniform,
-        what: "the camera of the previous frame; all zeros after a reset (no history to reuse)",
-    },
-    Provided {
-        name: "frame",
-        kind: ProvidedKind::Uniform,
-        what: "frame index, accumulated frame count, output size, user seed",
-    },
-];
-
-pub fn provided(name: &str) -> Option<&'static Provided> {
-    PROVIDED.iter().find(|p| p.name == name)
-}
-
-/// A pipeline-overridable constant the framework sets from the scene, so shaders are
-/// specialised to what the scene uses (no light loop without lights, no specular lobe
-/// without `Ks`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// A pipeline-overridable constant the application sets, so shaders can be specialised to its
+/// data (e.g. no loop over an empty list).
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProvidedOverride {
-    pub name: &'static str,
+    pub name: String,
     pub ty: ParamType,
-    pub what: &'static str,
+    pub what: String,
 }
 
-pub const PROVIDED_OVERRIDES: &[ProvidedOverride] = &[
-    ProvidedOverride {
-        name: "scene_light_count",
-        ty: ParamType::U32,
-        what: "number of emissive triangles (0: no shadow rays)",
-    },
-    ProvidedOverride {
-        name: "scene_triangle_count",
-        ty: ParamType::U32,
-        what: "number of triangles (texel views have no arrayLength)",
-    },
-    ProvidedOverride {
-        name: "scene_node_count",
-        ty: ParamType::U32,
-        what: "number of BVH nodes (texel views have no arrayLength)",
-    },
-    ProvidedOverride {
-        name: "scene_occluder_root",
-        ty: ParamType::U32,
-        what: "first BVH node of the triangles that can block a shadow ray",
-    },
-    ProvidedOverride {
-        name: "scene_has_specular",
-        ty: ParamType::Bool,
-        what: "whether any material has a specular lobe (Ks > 0)",
-    },
-];
+/// Everything an application provides to its graphs, in registration order (the order the
+/// plan lists provided resources in).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ProvidedSet {
+    resources: Vec<Provided>,
+    overrides: Vec<ProvidedOverride>,
+    /// The WGSL file whose functions read a storage buffer as texels, named in binding errors.
+    texel_readers: Option<String>,
+}
 
-pub fn provided_override(name: &str) -> Option<&'static ProvidedOverride> {
-    PROVIDED_OVERRIDES.iter().find(|o| o.name == name)
+impl ProvidedSet {
+    /// A set that provides nothing: graphs declare every resource they bind.
+    pub fn new() -> ProvidedSet {
+        ProvidedSet::default()
+    }
+
+    /// Registers a resource. A name registered twice is a bug in the application.
+    pub fn resource(
+        mut self,
+        name: impl Into<String>,
+        kind: ProvidedKind,
+        what: impl Into<String>,
+    ) -> ProvidedSet {
+        let name = name.into();
+        assert!(
+            self.get(&name).is_none(),
+            "provided resource '{name}' registered twice"
+        );
+        self.resources.push(Provided {
+            name,
+            kind,
+            what: what.into(),
+        });
+        self
+    }
+
+    /// Registers an override. A name registered twice is a bug in the application.
+    pub fn override_constant(
+        mut self,
+        name: impl Into<String>,
+        ty: ParamType,
+        what: impl Into<String>,
+    ) -> ProvidedSet {
+        let name = name.into();
+        assert!(
+            self.get_override(&name).is_none(),
+            "provided override '{name}' registered twice"
+        );
+        self.overrides.push(ProvidedOverride {
+            name,
+            ty,
+            what: what.into(),
+        });
+        self
+    }
+
+    /// Names the WGSL file whose readers take a storage buffer as texels, for binding errors.
+    pub fn texel_readers(mut self, file: impl Into<String>) -> ProvidedSet {
+        self.texel_readers = Some(file.into());
+        self
+    }
+
+    pub fn resources(&self) -> &[Provided] {
+        &self.resources
+    }
+
+    pub fn overrides(&self) -> &[ProvidedOverride] {
+        &self.overrides
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Provided> {
+        self.resources.iter().find(|p| p.name == name)
+    }
+
+    pub fn get_override(&self, name: &str) -> Option<&ProvidedOverride> {
+        self.overrides.iter().find(|o| o.name == name)
+    }
+
+    pub fn texel_reader_file(&self) -> Option<&str> {
+        self.texel_readers.as_deref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_what_was_registered_and_nothing_else() {
+        let set = ProvidedSet::new()
+            .resource("mesh", ProvidedKind::StorageBuffer, "vertices")
+            .override_constant("mesh_count", ParamType::U32, "vertex count");
+        assert_eq!(
+            set.get("mesh").map(|p| p.kind),
+            Some(ProvidedKind::StorageBuffer)
+        );
+        assert_eq!(
+            set.get_override("mesh_count").map(|o| o.ty),
+            Some(ParamType::U32)
+        );
+        assert!(set.get("mesh_count").is_none());
+        assert!(set.get_override("mesh").is_none());
+    }
+
+    #[test]
+    #[should_panic(expected = "registered twice")]
+    fn a_name_registered_twice_is_a_bug() {
+        let _ = ProvidedSet::new()
+            .resource("a", ProvidedKind::Uniform, "")
+            .resource("a", ProvidedKind::StorageBuffer, "");
+    }
 }

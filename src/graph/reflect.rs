@@ -805,9 +805,9 @@ mod tests {
     #[test]
     fn uniform_other_than_params_is_a_sized_binding() {
         let kind = single_binding(
-            "struct Camera { view: mat4x4<f32>, pos: vec3<f32> }
-             @group(0) @binding(0) var<uniform> camera: Camera;
-             @compute @workgroup_size(1) fn main() { _ = camera.pos; }",
+            "struct Eye { view: mat4x4<f32>, pos: vec3<f32> }
+             @group(0) @binding(0) var<uniform> eye: Eye;
+             @compute @workgroup_size(1) fn main() { _ = eye.pos; }",
         );
         assert_eq!(kind, BindingKind::Uniform { size: 80 });
     }

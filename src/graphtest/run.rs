@@ -5,8 +5,8 @@
 use super::decl::{CaseDecl, Expectation, TestFile};
 use super::expect::{Measured, SeedMeasure, Verdict, check};
 use crate::bench::metrics::downsample_2x;
+use crate::compile;
 use crate::gpu::GpuContext;
-use crate::graph::compile::compile;
 use crate::graph::compose::flatten_inline;
 use crate::graph::load::{LoadedGraph, load_flattened, load_graph, parse_ron, read_text};
 use crate::graph::set_param::set_param;

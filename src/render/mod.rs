@@ -6,4 +6,5 @@ pub mod camera_path;
 pub mod channels;
 pub mod image;
 pub mod output_texture;
+pub mod provided;
 pub mod session;

@@ -3,7 +3,10 @@
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_image};
-use crate::gpu::{Executor, GpuContext, GpuError, ProvidedData};
+use super::provided::{
+    CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, frame_bytes, path_tracer, provided_data,
+};
+use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
 use crate::graph::error::GraphError;
@@ -72,8 +75,6 @@ pub const DROPPED: &str = "dropped";
 pub const RAY_COUNT: &str = "ray_count";
 /// Five planes of vec4<f32>.
 pub const RESULT_BYTES_PER_PIXEL: u64 = 5 * 16;
-/// The provided uniform holding the previous frame's camera, all zeros when there is none.
-pub const CAMERA_PREVIOUS: &str = "camera_previous";
 
 pub struct Session {
     ctx: GpuContext,
@@ -152,14 +153,19 @@ impl Session {
         for s in &settings.set {
             set_param(&mut graph, s)?;
         }
-        let plan = compile(&graph, settings.size)?;
+        let plan = compile(&graph, settings.size, path_tracer())?;
         if let Some(channel) = shown {
             check_render_contract(&plan, channel)?;
         }
         let scene = load_scene(&settings.scene)?;
         let gpu_scene = scene.to_gpu();
         let ctx = context()?;
-        let provided = provided_data(&scene, &gpu_scene, settings.size, settings.seed, 0, 0);
+        let provided = provided_data(&ProvidedInputs {
+            scene: &scene,
+            gpu: &gpu_scene,
+            size: settings.size,
+            seed: settings.seed,
+        });
         let executor = Executor::new(&ctx, &plan, &provided)?;
         Ok(Session {
             ctx,
@@ -206,7 +212,7 @@ impl Session {
             return Ok(false);
         }
         let frame = frame_bytes(self.size, self.seed, self.index, self.accumulated);
-        self.executor.update_uniform("frame", &frame)?;
+        self.executor.update_uniform(FRAME, &frame)?;
         let previous = self.previous_camera.unwrap_or_else(GpuCamera::zeroed);
         self.executor
             .update_uniform(CAMERA_PREVIOUS, bytemuck::bytes_of(&previous))?;
@@ -238,7 +244,7 @@ impl Session {
     pub fn set_camera(&mut self, camera: CameraDesc) -> Result<(), RenderError> {
         let gpu = camera.to_gpu(self.size[0], self.size[1]);
         self.executor
-            .update_uniform("camera", bytemuck::bytes_of(&gpu))?;
+            .update_uniform(CAMERA, bytemuck::bytes_of(&gpu))?;
         self.scene.camera = camera;
         // A restart, but the last frame's camera stays `camera_previous`: a graph that
         // reprojects (graphs/pathtracer-reproject.ron) keeps what is still visible.
@@ -371,67 +377,4 @@ fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
     files.sort();
     files.dedup();
     files
-}
-
-fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
-    let frame = crate::scene::gpu::Frame {
-        index,
-        accumulated,
-        width: size[0],
-        height: size[1],
-        seed,
-        ..Default::default()
-    };
-    bytemuck::bytes_of(&frame).to_vec()
-}
-
-/// The framework-provided resources and scene overrides for the path tracer's passes.
-fn provided_data(
-    scene: &Scene,
-    gpu: &SceneGpu,
-    size: [u32; 2],
-    seed: u32,
-    index: u32,
-    accumulated: u32,
-) -> ProvidedData {
-    let mut data = ProvidedData::default();
-    let camera = scene.camera.to_gpu(size[0], size[1]);
-    data.buffers.insert(
-        "scene.triangles".into(),
-        bytemuck::cast_slice(&gpu.triangles).to_vec(),
-    );
-    data.buffers.insert(
-        "scene.materials".into(),
-        bytemuck::cast_slice(&gpu.materials).to_vec(),
-    );
-    data.buffers.insert(
-        "scene.lights".into(),
-        bytemuck::cast_slice(&gpu.lights).to_vec(),
-    );
-    data.buffers.insert(
-        "scene.light_power".into(),
-        bytemuck::cast_slice(&gpu.light_power).to_vec(),
-    );
-    data.buffers.insert("scene.bvh".into(), gpu.bvh_bytes());
-    data.buffers
-        .insert("camera".into(), bytemuck::bytes_of(&camera).to_vec());
-    data.buffers.insert(
-        CAMERA_PREVIOUS.into(),
-        bytemuck::bytes_of(&GpuCamera::zeroed()).to_vec(),
-    );
-    data.buffers
-        .insert("frame".into(), frame_bytes(size, seed, index, accumulated));
-    data.overrides
-        .insert("scene_light_count".into(), f64::from(gpu.light_count));
-    data.overrides
-        .insert("scene_triangle_count".into(), gpu.triangles.len() as f64);
-    data.overrides
-        .insert("scene_node_count".into(), gpu.nodes.len() as f64);
-    data.overrides
-        .insert("scene_occluder_root".into(), f64::from(gpu.occluder_root));
-    data.overrides.insert(
-        "scene_has_specular".into(),
-        if gpu.has_specular { 1.0 } else { 0.0 },
-    );
-    data
 }

@@ -1,0 +1,200 @@
+//! What the path tracer provides to its graphs: the scene's buffers, the cameras, the frame
+//! uniform and the scene overrides. One table registers each with the compiler (a
+//! [`ProvidedSet`]) and fills its data (a [`ProvidedData`]), so neither can name something the
+//! other lacks.
+
+use crate::gpu::ProvidedData;
+use crate::graph::param::ParamType;
+use crate::graph::provided::{ProvidedKind, ProvidedSet};
+use crate::scene::gpu::{Frame, GpuCamera};
+use crate::scene::{Scene, SceneGpu};
+use bytemuck::Zeroable;
+use std::sync::OnceLock;
+
+/// The uniform holding the frame index, accumulated count, output size and seed.
+pub const FRAME: &str = "frame";
+/// The uniform holding the camera.
+pub const CAMERA: &str = "camera";
+/// The uniform holding the previous frame's camera, all zeros when there is none.
+pub const CAMERA_PREVIOUS: &str = "camera_previous";
+/// The shader file whose readers take a scene buffer as texels.
+const TEXEL_READERS: &str = "shaders/lib/scene.wgsl";
+
+/// What the provided data is made from when a session starts.
+pub struct ProvidedInputs<'a> {
+    pub scene: &'a Scene,
+    pub gpu: &'a SceneGpu,
+    pub size: [u32; 2],
+    pub seed: u32,
+}
+
+struct Resource {
+    name: &'static str,
+    kind: ProvidedKind,
+    what: &'static str,
+    bytes: fn(&ProvidedInputs) -> Vec<u8>,
+}
+
+struct Override {
+    name: &'static str,
+    ty: ParamType,
+    what: &'static str,
+    value: fn(&SceneGpu) -> f64,
+}
+
+const RESOURCES: &[Resource] = &[
+    Resource {
+        name: "scene.triangles",
+        kind: ProvidedKind::StorageBuffer,
+        what: "triangles: three vertices and a material index each",
+        bytes: |i| bytemuck::cast_slice(&i.gpu.triangles).to_vec(),
+    },
+    Resource {
+        name: "scene.materials",
+        kind: ProvidedKind::StorageBuffer,
+        what: "materials from the MTL file",
+        bytes: |i| bytemuck::cast_slice(&i.gpu.materials).to_vec(),
+    },
+    Resource {
+        name: "scene.lights",
+        kind: ProvidedKind::StorageBuffer,
+        what: "the lights: emissive triangles, and parallelograms of two (p0, e1, e2, material, triangles; 48 bytes each)",
+        bytes: |i| bytemuck::cast_slice(&i.gpu.lights).to_vec(),
+    },
+    Resource {
+        name: "scene.light_power",
+        kind: ProvidedKind::StorageBuffer,
+        what: "f32 power of each light (area x luminance of Ke), in scene.lights order",
+        bytes: |i| bytemuck::cast_slice(&i.gpu.light_power).to_vec(),
+    },
+    Resource {
+        name: "scene.bvh",
+        kind: ProvidedKind::StorageBuffer,
+        what: "threaded BVH: the box grid, then one 16-byte node each",
+        bytes: |i| i.gpu.bvh_bytes(),
+    },
+    Resource {
+        name: CAMERA,
+        kind: ProvidedKind::Uniform,
+        what: "the pinhole camera",
+        bytes: |i| bytemuck::bytes_of(&i.scene.camera.to_gpu(i.size[0], i.size[1])).to_vec(),
+    },
+    Resource {
+        name: CAMERA_PREVIOUS,
+        kind: ProvidedKind::Uniform,
+        what: "the camera of the previous frame; all zeros after a reset (no history to reuse)",
+        bytes: |_| bytemuck::bytes_of(&GpuCamera::zeroed()).to_vec(),
+    },
+    Resource {
+        name: FRAME,
+        kind: ProvidedKind::Uniform,
+        what: "frame index, accumulated frame count, output size, user seed",
+        bytes: |i| frame_bytes(i.size, i.seed, 0, 0),
+    },
+];
+
+const OVERRIDES: &[Override] = &[
+    Override {
+        name: "scene_light_count",
+        ty: ParamType::U32,
+        what: "number of emissive triangles (0: no shadow rays)",
+        value: |gpu| f64::from(gpu.light_count),
+    },
+    Override {
+        name: "scene_triangle_count",
+        ty: ParamType::U32,
+        what: "number of triangles (texel views have no arrayLength)",
+        value: |gpu| gpu.triangles.len() as f64,
+    },
+    Override {
+        name: "scene_node_count",
+        ty: ParamType::U32,
+        what: "number of BVH nodes (texel views have no arrayLength)",
+        value: |gpu| gpu.nodes.len() as f64,
+    },
+    Override {
+        name: "scene_occluder_root",
+        ty: ParamType::U32,
+        what: "first BVH node of the triangles that can block a shadow ray",
+        value: |gpu| f64::from(gpu.occluder_root),
+    },
+    Override {
+        name: "scene_has_specular",
+        ty: ParamType::Bool,
+        what: "whether any material has a specular lobe (Ks > 0)",
+        value: |gpu| if gpu.has_specular { 1.0 } else { 0.0 },
+    },
+];
+
+/// The path tracer's provided resources and overrides, as the compiler checks graphs against.
+pub fn path_tracer() -> &'static ProvidedSet {
+    static SET: OnceLock<ProvidedSet> = OnceLock::new();
+    SET.get_or_init(|| {
+        let set = RESOURCES.iter().fold(ProvidedSet::new(), |set, r| {
+            set.resource(r.name, r.kind, r.what)
+        });
+        OVERRIDES
+            .iter()
+            .fold(set, |set, o| set.override_constant(o.name, o.ty, o.what))
+            .texel_readers(TEXEL_READERS)
+    })
+}
+
+/// The data of every entry of [`path_tracer`] for a session's first frame.
+pub fn provided_data(inputs: &ProvidedInputs) -> ProvidedData {
+    let mut data = ProvidedData::default();
+    for r in RESOURCES {
+        data.buffers.insert(r.name.into(), (r.bytes)(inputs));
+    }
+    for o in OVERRIDES {
+        data.overrides.insert(o.name.into(), (o.value)(inputs.gpu));
+    }
+    data
+}
+
+/// The `frame` uniform's bytes.
+pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
+    let frame = Frame {
+        index,
+        accumulated,
+        width: size[0],
+        height: size[1],
+        seed,
+        ..Default::default()
+    };
+    bytemuck::bytes_of(&frame).to_vec()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_scene;
+    use std::collections::BTreeSet;
+    use std::path::Path;
+
+    #[test]
+    fn every_registered_name_gets_data_and_every_datum_is_registered() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(crate::scene::DEFAULT_SCENE);
+        let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let gpu = scene.to_gpu();
+        let data = provided_data(&ProvidedInputs {
+            scene: &scene,
+            gpu: &gpu,
+            size: [8, 8],
+            seed: 0,
+        });
+        let set = path_tracer();
+        let registered: BTreeSet<&str> = set.resources().iter().map(|r| r.name.as_str()).collect();
+        let filled: BTreeSet<&str> = data.buffers.keys().map(String::as_str).collect();
+        assert_eq!(registered, filled);
+        let registered: BTreeSet<&str> = set.overrides().iter().map(|o| o.name.as_str()).collect();
+        let filled: BTreeSet<&str> = data.overrides.keys().map(String::as_str).collect();
+        assert_eq!(registered, filled);
+        // A uniform's bytes are what its shader struct holds, so none may be empty.
+        for r in set.resources() {
+            if r.kind == ProvidedKind::Uniform {
+                assert!(!data.buffers[&r.name].is_empty(), "{}", r.name);
+            }
+        }
+    }
+}
