@@ -2,7 +2,8 @@
 //! hazards, the stage order respects every dependency and program order between conflicting
 //! passes, and every conflicting hand-over between stages has a barrier.
 
-use passgraph::graph::deps::{DependencyError, PassUse, ResourceId};
+use passgraph::graph::deps::{DependencyError, PassUse};
+use passgraph::graph::id::{KeptPass, ResourceId};
 use passgraph::graph::interface::Access;
 use passgraph::graph::schedule::{Usage, schedule};
 use proptest::prelude::*;
@@ -21,7 +22,10 @@ fn access() -> impl Strategy<Value = Access> {
 fn pass() -> impl Strategy<Value = Vec<PassUse>> {
     proptest::collection::btree_map(0..RESOURCES, access(), 0..4).prop_map(|m| {
         m.into_iter()
-            .map(|(resource, access)| PassUse { resource, access })
+            .map(|(resource, access)| PassUse {
+                resource: ResourceId(resource),
+                access,
+            })
             .collect()
     })
 }
@@ -53,10 +57,11 @@ proptest! {
         persistent_mask in prop_oneof![Just((1u32 << RESOURCES) - 1), 0u32..(1 << RESOURCES)],
         output_mask in 1u32..(1 << RESOURCES),
     ) {
-        let persistent = move |r: ResourceId| persistent_mask & (1 << r) != 0;
+        let persistent = move |r: ResourceId| persistent_mask & (1 << r.0) != 0;
         // Outputs among the written resources, so an unwritten output does not cull everything.
         let outputs: Vec<ResourceId> = (0..RESOURCES)
             .filter(|&r| output_mask & (1 << r) != 0)
+            .map(ResourceId)
             .filter(|&r| passes.iter().flatten().any(|u| u.resource == r && u.access.writes()))
             .collect();
         let usages: Vec<Vec<(ResourceId, Usage)>> = passes
@@ -69,7 +74,7 @@ proptest! {
                 // The error must be real: a transient read with no earlier write.
                 prop_assert!(!persistent(resource));
                 prop_assert!(passes[pass].iter().any(|u| u.resource == resource && u.access.reads()));
-                prop_assert!(!passes[..pass].iter().flatten().any(|u| u.resource == resource && u.access.writes()));
+                prop_assert!(!passes[..pass.0].iter().flatten().any(|u| u.resource == resource && u.access.writes()));
                 if let Some(w) = later_writer {
                     prop_assert!(w > pass);
                 }
@@ -95,10 +100,10 @@ proptest! {
             }
         }
         // Stages partition the kept passes in program order.
-        let flat: Vec<usize> = s.stages.iter().flatten().copied().collect();
+        let flat: Vec<KeptPass> = s.stages.iter().flatten().copied().collect();
         let mut sorted = flat.clone();
         sorted.sort();
-        prop_assert_eq!(sorted, (0..kept.len()).collect::<Vec<_>>());
+        prop_assert_eq!(sorted, (0..kept.len()).map(KeptPass).collect::<Vec<_>>());
         // A conflicting hand-over from one stage to a later one has a barrier at or before the
         // later stage, after the earlier one.
         for i in 0..kept.len() {

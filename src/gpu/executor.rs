@@ -8,6 +8,7 @@ use super::pass::PreparedPass;
 use super::provided_data::ProvidedData;
 use super::resources::{GpuResources, write_padded};
 use super::timing::{FrameTimes, StageTimer};
+use crate::graph::id::KeptPass;
 use crate::graph::plan::Plan;
 
 pub struct Executor {
@@ -17,7 +18,7 @@ pub struct Executor {
     resources: GpuResources,
     /// In `Plan::passes` order, so `stages` indexes it directly.
     passes: Vec<PreparedPass>,
-    stages: Vec<Vec<usize>>,
+    stages: Vec<Vec<KeptPass>>,
     stage_labels: Vec<String>,
     timer: Option<StageTimer>,
 }
@@ -73,7 +74,7 @@ impl Executor {
                     label: Some(&self.stage_labels[s]),
                     timestamp_writes: self.timer.as_ref().map(|t| t.pass_writes(s)),
                 });
-                for &p in stage {
+                for &KeptPass(p) in stage {
                     let pass = &self.passes[p];
                     compute.set_pipeline(&pass.pipeline);
                     for (group, bind_group) in &pass.bind_groups {

@@ -9,8 +9,8 @@ use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::readback::read_mapped;
 use super::texels::create_texel_view;
-use crate::graph::deps::ResourceId;
 use crate::graph::format::{TextureDim, TextureFormat};
+use crate::graph::id::ResourceId;
 use crate::graph::interface::BindingKind;
 use crate::graph::plan::{PhysicalResource, Plan, PlannedBinding, PlannedResource, ResourceKind};
 use crate::graph::provided::ProvidedKind;
@@ -169,6 +169,7 @@ impl GpuResources {
             .resources
             .iter()
             .position(|r| r.name == name && r.kind == ResourceKind::Provided(ProvidedKind::Uniform))
+            .map(ResourceId)
             .ok_or_else(|| GpuError::NotAProvidedUniform {
                 name: name.to_string(),
                 uniforms: self

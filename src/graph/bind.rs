@@ -2,9 +2,9 @@
 
 use super::compose::PassOrigin;
 use super::decl::{Dispatch, PassInstanceDecl};
-use super::deps::ResourceId;
 use super::error::GraphError;
 use super::format::{SampleKind, TextureDim, TextureFormat};
+use super::id::ResourceId;
 use super::interface::{Access, BindingKind, ShaderBinding};
 use super::load::LoadedPass;
 use super::param::ParamValue;
@@ -148,7 +148,8 @@ pub fn bind_instance(
                 shader: pass.shader.path.clone(),
             });
         };
-        let Some(id) = resources.iter().position(|r| &r.name == resource_name) else {
+        let found = resources.iter().position(|r| &r.name == resource_name);
+        let Some(id) = found.map(ResourceId) else {
             return Err(GraphError::UnknownResource {
                 graph: graph_file.to_path_buf(),
                 pass: instance.name.clone(),

@@ -3,11 +3,12 @@
 
 use super::bind::{BoundPass, bind_instance, check_pass_params};
 use super::compose::check_include_targets;
+use super::cull::{ResourceFacts, cull_reason};
 use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
-use super::deps::ResourceId;
-use super::deps::{Dependencies, DependencyError, PassUse, ReadSource};
+use super::deps::{DependencyError, PassUse};
 use super::error::GraphError;
-use super::lifetime::{Lifetime, LogicalResource, allocate};
+use super::id::{Id, KeptPass, PassIndex, ResourceId};
+use super::lifetime::{LogicalResource, Role, allocate, lifetimes};
 use super::load::{LoadedGraph, load_graph};
 use super::plan::{
     CulledPass, PhysicalResource, Plan, PlannedEdge, PlannedPass, PlannedResource, ResourceKind,
@@ -70,7 +71,7 @@ pub fn compile(
     let uses: Vec<Vec<PassUse>> = bound.iter().map(pass_uses).collect();
     let usages: Vec<_> = bound.iter().map(|b| b.usages.clone()).collect();
     let schedule = schedule(&uses, &usages, is_persistent, &outputs).map_err(|e| {
-        let name = |p: usize| decl.passes[p].name.clone();
+        let name = |p: PassIndex| decl.passes[p].name.clone();
         let res = |r: ResourceId| resources[r].name.clone();
         match e {
             DependencyError::ReadBeforeWrite {
@@ -115,31 +116,23 @@ pub fn compile(
         ..
     } = schedule;
 
+    let roles: Vec<Role> = resources
+        .iter()
+        .map(|r| Role {
+            persistent: r.persistent,
+            output: r.output,
+        })
+        .collect();
+    let used_in = kept
+        .iter()
+        .zip(&levels)
+        .flat_map(|(&p, &stage)| bound[p].uses.iter().map(move |&(r, _)| (r, stage)));
     let last_stage = stages.len().saturating_sub(1);
-    for (k, &p) in kept.iter().enumerate() {
-        for &(r, _) in &bound[p].uses {
-            let l = &mut resources[r].lifetime;
-            *l = Some(l.map_or(
-                Lifetime {
-                    first_stage: levels[k],
-                    last_stage: levels[k],
-                },
-                |l| l.extend(levels[k]),
-            ));
-        }
-    }
-    for r in resources.iter_mut() {
-        r.lifetime = r.lifetime.map(|l| {
-            if r.persistent {
-                // Persistent content lives across frames: the whole frame.
-                l.extend(0).extend(last_stage)
-            } else if r.output {
-                // Outputs are read back after the last stage.
-                l.extend(last_stage)
-            } else {
-                l
-            }
-        });
+    for (r, lifetime) in resources
+        .iter_mut()
+        .zip(lifetimes(&roles, used_in, last_stage))
+    {
+        r.lifetime = lifetime;
     }
     let physical = allocate_physical(&mut resources, &kept, &bound);
 
@@ -150,26 +143,35 @@ pub fn compile(
             let (from, to) = deps.graph.edge_endpoints(e)?;
             let d = deps.graph[e];
             Some(PlannedEdge {
-                from: from.index(),
-                to: to.index(),
+                from: KeptPass(from.index()),
+                to: KeptPass(to.index()),
                 resource: d.resource,
                 hazard: d.hazard,
             })
         })
         .collect();
-    let culled = (0..bound.len())
+    let culled = PassIndex::all(bound.len())
         .filter(|&p| !alive[p])
         .map(|p| CulledPass {
             name: decl.passes[p].name.clone(),
             origin: graph.pass_origin(&decl.passes[p].name).file,
-            reason: cull_reason(p, &uses, &all, decl, &resources),
+            reason: cull_reason(
+                p,
+                &uses,
+                &all,
+                |q| &decl.passes[q].name,
+                |r| ResourceFacts {
+                    name: &resources[r].name,
+                    persistent: resources[r].persistent,
+                },
+            ),
             uses: bound[p].uses.clone(),
         })
         .collect();
     let passes = kept
         .iter()
-        .enumerate()
-        .map(|(k, &p)| {
+        .zip(&levels)
+        .map(|(&p, &stage)| {
             let instance = &decl.passes[p];
             let pass = &graph.passes[&instance.pass];
             let b = &bound[p];
@@ -179,7 +181,7 @@ pub fn compile(
                 pass_file: pass.file.clone(),
                 shader: pass.shader.clone(),
                 entry: pass.decl.entry.clone(),
-                stage: levels[k],
+                stage,
                 workgroups: b.workgroups,
                 workgroup_size: pass.interface.workgroup_size,
                 bindings: b.bindings.clone(),
@@ -360,7 +362,7 @@ fn resolve_outputs(
         let found = resources
             .iter()
             .position(|r| &r.name == output && !matches!(r.kind, ResourceKind::Provided(_)));
-        let Some(id) = found else {
+        let Some(id) = found.map(ResourceId) else {
             return Err(GraphError::UnknownOutput {
                 graph: graph.output_origin(output).to_path_buf(),
                 output: output.clone(),
@@ -375,7 +377,7 @@ fn resolve_outputs(
 
 fn allocate_physical(
     resources: &mut [PlannedResource],
-    kept: &[usize],
+    kept: &[PassIndex],
     bound: &[BoundPass],
 ) -> Vec<PhysicalResource> {
     let graph_owned = |r: &PlannedResource| !matches!(r.kind, ResourceKind::Provided(_));
@@ -397,7 +399,7 @@ fn allocate_physical(
             users: Vec::new(),
         })
         .collect();
-    for (r, slot) in allocation.physical_of.iter().enumerate() {
+    for (r, slot) in ResourceId::all(resources.len()).zip(&allocation.physical_of) {
         resources[r].physical = *slot;
         if let Some(s) = *slot {
             physical[s].users.push(r);
@@ -414,51 +416,4 @@ fn allocate_physical(
         }
     }
     physical
-}
-
-/// Why pass `p` was culled, resource by resource: what became of each version it wrote.
-fn cull_reason(
-    p: usize,
-    uses: &[Vec<PassUse>],
-    all: &Dependencies,
-    decl: &GraphDecl,
-    resources: &[PlannedResource],
-) -> String {
-    let written: Vec<ResourceId> = uses[p]
-        .iter()
-        .filter(|u| u.access.writes())
-        .map(|u| u.resource)
-        .collect();
-    if written.is_empty() {
-        return "it writes nothing".to_string();
-    }
-    let name = |q: usize| format!("'{}'", decl.passes[q].name);
-    let reasons: Vec<String> = written
-        .iter()
-        .map(|&r| {
-            let resource = &resources[r].name;
-            let readers: Vec<usize> = (0..all.reads.len())
-                .filter(|&q| all.reads[q].contains(&(r, ReadSource::Pass(p))))
-                .collect();
-            let overwriter = (p + 1..uses.len())
-                .find(|&q| uses[q].iter().any(|u| u.resource == r && u.access.writes()));
-            if !readers.is_empty() {
-                let names: Vec<String> = readers.into_iter().map(name).collect();
-                format!(
-                    "'{resource}' is read only by culled passes ({})",
-                    names.join(", ")
-                )
-            } else if let Some(q) = overwriter {
-                format!(
-                    "'{resource}' is overwritten by {} before anything reads it",
-                    name(q)
-                )
-            } else if resources[r].persistent {
-                format!("'{resource}' is persistent, but no kept pass reads it next frame")
-            } else {
-                format!("nothing reads '{resource}' and it is not an output")
-            }
-        })
-        .collect();
-    reasons.join("; ")
 }

@@ -3,6 +3,7 @@
 //! rejects a graph `render` could not run instead of `render` failing (or panicking) later.
 
 use super::error::GraphError;
+use super::id::ResourceId;
 use super::plan::{Plan, ResourceKind};
 
 /// The least size of a required buffer.
@@ -46,8 +47,8 @@ impl Contract {
             reason,
         };
         for need in &self.buffers {
-            let resources: Vec<usize> = if need.by_binding {
-                let mut ids: Vec<usize> = plan
+            let resources: Vec<ResourceId> = if need.by_binding {
+                let mut ids: Vec<ResourceId> = plan
                     .passes
                     .iter()
                     .flat_map(|p| &p.bindings)
@@ -58,7 +59,7 @@ impl Contract {
                 ids.dedup();
                 ids
             } else {
-                match plan.resources.iter().position(|r| r.name == need.name) {
+                match plan.resource_id(&need.name) {
                     Some(id) => vec![id],
                     None => {
                         return Err(error(

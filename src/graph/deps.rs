@@ -2,14 +2,14 @@
 //!
 //! Pure data over indices, so the scheduling rules can be tested (and property-tested) without
 //! shaders or files. Each write makes a new version of a resource; a read sees the latest version.
+//! Passes are indexed by `P`: the compiler builds dependencies among all passes (`PassIndex`)
+//! and again among the kept ones (`KeptPass`).
 
+use super::id::{Id, PassIndex, ResourceId};
 use super::interface::Access;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeFiltered;
 use std::collections::BTreeMap;
-
-pub type PassId = usize;
-pub type ResourceId = usize;
 
 /// One resource a pass touches, with the union of its bindings' accesses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,67 +34,76 @@ pub struct Dependency {
 
 /// Which version of a resource a read sees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ReadSource {
+pub enum ReadSource<P = PassIndex> {
     /// Written earlier this frame by that pass.
-    Pass(PassId),
+    Pass(P),
     /// Persistent (or provided) content from before this frame.
     PreviousFrame,
 }
 
 #[derive(Clone, Debug)]
-pub struct Dependencies {
+pub struct Dependencies<P = PassIndex> {
     /// Node `i` is pass `i`; edges always go from an earlier to a later pass.
-    pub graph: DiGraph<PassId, Dependency>,
+    pub graph: DiGraph<P, Dependency>,
     /// For each pass, each resource it reads and where that version comes from.
-    pub reads: Vec<Vec<(ResourceId, ReadSource)>>,
+    pub reads: Vec<Vec<(ResourceId, ReadSource<P>)>>,
     /// The last pass writing each resource this frame.
-    pub final_writer: BTreeMap<ResourceId, PassId>,
+    pub final_writer: BTreeMap<ResourceId, P>,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum DependencyError {
+pub enum DependencyError<P = PassIndex> {
     /// A transient resource read before any write; `later_writer` is the first pass that writes it.
     ReadBeforeWrite {
-        pass: PassId,
+        pass: P,
         resource: ResourceId,
-        later_writer: Option<PassId>,
+        later_writer: Option<P>,
     },
     /// `passes[0]` reads what `passes[last]` writes, and that writer needs `passes[0]`'s output.
     /// `via[i]` carries `passes[i] -> passes[i+1]` (the last: back to `passes[0]`).
     Cycle {
-        passes: Vec<PassId>,
+        passes: Vec<P>,
         via: Vec<ResourceId>,
     },
 }
 
-#[derive(Default)]
-struct ResourceState {
-    last_writer: Option<PassId>,
-    readers_since_write: Vec<PassId>,
+struct ResourceState<P> {
+    last_writer: Option<P>,
+    readers_since_write: Vec<P>,
+}
+
+impl<P> Default for ResourceState<P> {
+    fn default() -> Self {
+        ResourceState {
+            last_writer: None,
+            readers_since_write: Vec::new(),
+        }
+    }
 }
 
 /// Builds the dependency DAG. `persistent(r)` says whether reading `r` before any write this
-/// frame is allowed (it then reads the previous frame's content).
-pub fn dependencies(
+/// frame is allowed (it then reads the previous frame's content). `uses[i]` is pass `P::new(i)`'s.
+pub fn dependencies<P: Id>(
     uses: &[Vec<PassUse>],
     persistent: impl Fn(ResourceId) -> bool,
-) -> Result<Dependencies, DependencyError> {
+) -> Result<Dependencies<P>, DependencyError<P>> {
     let mut graph = DiGraph::new();
-    for p in 0..uses.len() {
+    for p in P::all(uses.len()) {
         graph.add_node(p);
     }
-    let mut state: BTreeMap<ResourceId, ResourceState> = BTreeMap::new();
+    let mut state: BTreeMap<ResourceId, ResourceState<P>> = BTreeMap::new();
     let mut reads = vec![Vec::new(); uses.len()];
     let mut first_error = None;
-    let add = |g: &mut DiGraph<PassId, Dependency>, from: PassId, to: PassId, d: Dependency| {
+    let add = |g: &mut DiGraph<P, Dependency>, from: P, to: P, d: Dependency| {
+        let (from, to) = (NodeIndex::new(from.index()), NodeIndex::new(to.index()));
         let exists = g
-            .edges_connecting(NodeIndex::new(from), NodeIndex::new(to))
+            .edges_connecting(from, to)
             .any(|e| e.weight().resource == d.resource);
         if from != to && !exists {
-            g.add_edge(NodeIndex::new(from), NodeIndex::new(to), d);
+            g.add_edge(from, to, d);
         }
     };
-    for (p, pass_uses) in uses.iter().enumerate() {
+    for (p, pass_uses) in P::all(uses.len()).zip(uses) {
         for u in pass_uses {
             let s = state.entry(u.resource).or_default();
             if u.access.reads() {
@@ -105,13 +114,13 @@ pub fn dependencies(
                             hazard: Hazard::ReadAfterWrite,
                         };
                         add(&mut graph, w, p, dep);
-                        reads[p].push((u.resource, ReadSource::Pass(w)));
+                        reads[p.index()].push((u.resource, ReadSource::Pass(w)));
                     }
                     None => {
                         if !persistent(u.resource) && first_error.is_none() {
                             first_error = Some((p, u.resource));
                         }
-                        reads[p].push((u.resource, ReadSource::PreviousFrame));
+                        reads[p.index()].push((u.resource, ReadSource::PreviousFrame));
                     }
                 }
             }
@@ -153,14 +162,14 @@ pub fn dependencies(
 
 /// Explains a read before write: a cycle if the later writer needs this pass's output
 /// (through read-after-write edges), otherwise a misordering.
-fn read_before_write(
-    graph: &DiGraph<PassId, Dependency>,
+fn read_before_write<P: Id>(
+    graph: &DiGraph<P, Dependency>,
     uses: &[Vec<PassUse>],
-    pass: PassId,
+    pass: P,
     resource: ResourceId,
-) -> DependencyError {
-    let later_writer = (pass + 1..uses.len()).find(|&q| {
-        uses[q]
+) -> DependencyError<P> {
+    let later_writer = (pass.index() + 1..uses.len()).map(P::new).find(|&q| {
+        uses[q.index()]
             .iter()
             .any(|u| u.resource == resource && u.access.writes())
     });
@@ -174,14 +183,14 @@ fn read_before_write(
     let data_flow = EdgeFiltered::from_fn(graph, |e| e.weight().hazard == Hazard::ReadAfterWrite);
     let path = petgraph::algo::astar(
         &data_flow,
-        NodeIndex::new(pass),
-        |n| n.index() == writer,
+        NodeIndex::new(pass.index()),
+        |n| n.index() == writer.index(),
         |_| 1,
         |_| 0,
     );
     match path {
         Some((_, nodes)) => {
-            let passes: Vec<PassId> = nodes.iter().map(|n| n.index()).collect();
+            let passes: Vec<P> = nodes.iter().map(|n| P::new(n.index())).collect();
             let mut via: Vec<ResourceId> = nodes
                 .windows(2)
                 .map(|w| {
@@ -207,40 +216,53 @@ fn read_before_write(
 mod tests {
     use super::*;
 
-    fn u(resource: ResourceId, access: Access) -> PassUse {
-        PassUse { resource, access }
+    fn u(resource: usize, access: Access) -> PassUse {
+        PassUse {
+            resource: ResourceId(resource),
+            access,
+        }
+    }
+
+    fn deps(uses: &[Vec<PassUse>], persistent: bool) -> Result<Dependencies, DependencyError> {
+        dependencies(uses, |_| persistent)
     }
 
     #[test]
     fn read_after_write_orders_reader_after_writer() {
-        let deps = dependencies(
+        let deps = deps(
             &[vec![u(0, Access::Write)], vec![u(0, Access::Read)]],
-            |_| false,
+            false,
         )
         .unwrap();
         assert_eq!(deps.graph.edge_count(), 1);
-        assert_eq!(deps.reads[1], vec![(0, ReadSource::Pass(0))]);
+        assert_eq!(
+            deps.reads[1],
+            vec![(ResourceId(0), ReadSource::Pass(PassIndex(0)))]
+        );
     }
 
     #[test]
     fn write_after_read_keeps_the_reader_before_the_overwrite() {
         let uses = [vec![u(0, Access::Read)], vec![u(0, Access::Write)]];
-        let deps = dependencies(&uses, |_| true).unwrap();
+        let deps = deps(&uses, true).unwrap();
         let e = deps.graph.edge_weights().next().unwrap();
         assert_eq!(e.hazard, Hazard::WriteAfterRead);
-        assert_eq!(deps.reads[0], vec![(0, ReadSource::PreviousFrame)]);
+        assert_eq!(
+            deps.reads[0],
+            vec![(ResourceId(0), ReadSource::PreviousFrame)]
+        );
     }
 
     #[test]
     fn transient_read_before_write_names_the_later_writer() {
         let uses = [vec![u(0, Access::Read)], vec![u(0, Access::Write)]];
-        let err = dependencies(&uses, |_| false).unwrap_err();
+        let err = deps(&uses, false).unwrap_err();
         assert_eq!(
             err,
             DependencyError::ReadBeforeWrite {
-                pass: 0,
-                resource: 0,
-                later_writer: Some(1)
+                pass: PassIndex(0),
+                resource: ResourceId(0),
+                later_writer: Some(PassIndex(1))
             }
         );
     }
@@ -252,12 +274,12 @@ mod tests {
             vec![u(0, Access::Read), u(1, Access::Write)],
             vec![u(1, Access::Read), u(0, Access::Write)],
         ];
-        let err = dependencies(&uses, |_| false).unwrap_err();
+        let err = deps(&uses, false).unwrap_err();
         assert_eq!(
             err,
             DependencyError::Cycle {
-                passes: vec![0, 1],
-                via: vec![1, 0]
+                passes: vec![PassIndex(0), PassIndex(1)],
+                via: vec![ResourceId(1), ResourceId(0)]
             }
         );
     }

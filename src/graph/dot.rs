@@ -1,6 +1,7 @@
 //! Graphviz output: passes as boxes clustered by stage, resources as ellipses, reads and writes
 //! as edges; culled passes dashed.
 
+use super::id::{Id, ResourceId};
 use super::interface::Access;
 use super::plan::{Plan, ResourceKind};
 use std::fmt::Write;
@@ -36,7 +37,7 @@ pub fn to_dot(plan: &Plan) -> String {
             quote(&format!("{} (culled)\\n{}", c.name, c.origin.display()))
         );
     }
-    for (i, r) in plan.resources.iter().enumerate() {
+    for (i, r) in ResourceId::all(plan.resources.len()).zip(&plan.resources) {
         let used = plan
             .passes
             .iter()

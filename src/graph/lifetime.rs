@@ -1,6 +1,8 @@
 //! Resource lifetimes and reuse: transient resources with equal descriptors and disjoint
 //! lifetimes share one GPU object (WebGPU has no memory aliasing, so sharing is whole objects).
 
+use super::id::ResourceId;
+
 /// The stages in which a resource is used, inclusive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lifetime {
@@ -15,6 +17,46 @@ impl Lifetime {
             last_stage: self.last_stage.max(stage),
         }
     }
+}
+
+/// Whether a resource's content outlives the stages that use it.
+#[derive(Clone, Copy, Debug)]
+pub struct Role {
+    /// Kept across frames: it lives the whole frame.
+    pub persistent: bool,
+    /// Read back after the last stage.
+    pub output: bool,
+}
+
+/// The lifetime of each resource (`roles[i]` is resource `i`'s) from `used_in`, every
+/// (resource, stage) in which a kept pass uses it; `None` for a resource no kept pass uses.
+pub fn lifetimes(
+    roles: &[Role],
+    used_in: impl IntoIterator<Item = (ResourceId, usize)>,
+    last_stage: usize,
+) -> Vec<Option<Lifetime>> {
+    let mut out: Vec<Option<Lifetime>> = vec![None; roles.len()];
+    for (r, stage) in used_in {
+        out[r] = Some(out[r].map_or(
+            Lifetime {
+                first_stage: stage,
+                last_stage: stage,
+            },
+            |l| l.extend(stage),
+        ));
+    }
+    for (lifetime, role) in out.iter_mut().zip(roles) {
+        *lifetime = lifetime.map(|l| {
+            if role.persistent {
+                l.extend(0).extend(last_stage)
+            } else if role.output {
+                l.extend(last_stage)
+            } else {
+                l
+            }
+        });
+    }
+    out
 }
 
 /// What the allocator needs to know about one logical resource.
@@ -81,6 +123,33 @@ pub fn allocate<D: PartialEq + Clone>(resources: &[LogicalResource<D>]) -> Alloc
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn persistent_spans_the_frame_outputs_reach_the_end_and_unused_get_none() {
+        let role = |persistent, output| Role { persistent, output };
+        let roles = [
+            role(false, false),
+            role(true, false),
+            role(false, true),
+            role(false, false),
+        ];
+        let used_in = [
+            (ResourceId(0), 1),
+            (ResourceId(0), 2),
+            (ResourceId(1), 2),
+            (ResourceId(2), 1),
+        ];
+        let span = |first_stage, last_stage| {
+            Some(Lifetime {
+                first_stage,
+                last_stage,
+            })
+        };
+        assert_eq!(
+            lifetimes(&roles, used_in, 4),
+            vec![span(1, 2), span(0, 4), span(1, 4), None]
+        );
+    }
 
     fn r(desc: u32, first: usize, last: usize, shareable: bool) -> LogicalResource<u32> {
         LogicalResource {

@@ -11,6 +11,7 @@ pub mod deps;
 pub mod dot;
 pub mod error;
 pub mod format;
+pub mod id;
 pub mod interface;
 pub mod lifetime;
 pub mod load;

@@ -1,8 +1,8 @@
 //! The compiled graph: what the GPU executor records and what graph tests assert on.
 
 use super::compose::PassOrigin;
-use super::deps::{PassId, ResourceId};
 use super::format::TextureFormat;
+use super::id::{KeptPass, ResourceId};
 use super::interface::{Access, BindingKind};
 use super::lifetime::Lifetime;
 use super::param::ParamValue;
@@ -128,8 +128,8 @@ pub struct CulledPass {
 /// A dependency between two kept passes, for display.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlannedEdge {
-    pub from: PassId,
-    pub to: PassId,
+    pub from: KeptPass,
+    pub to: KeptPass,
     pub resource: ResourceId,
     pub hazard: super::deps::Hazard,
 }
@@ -145,7 +145,7 @@ pub struct Plan {
     /// Kept passes in program order.
     pub passes: Vec<PlannedPass>,
     /// Indices into `passes`; every pass of a stage may run once the previous stage is done.
-    pub stages: Vec<Vec<PassId>>,
+    pub stages: Vec<Vec<KeptPass>>,
     pub barriers: Vec<Barrier>,
     pub edges: Vec<PlannedEdge>,
     pub culled: Vec<CulledPass>,
@@ -157,7 +157,10 @@ impl Plan {
     }
 
     pub fn resource_id(&self, name: &str) -> Option<ResourceId> {
-        self.resources.iter().position(|r| r.name == name)
+        self.resources
+            .iter()
+            .position(|r| r.name == name)
+            .map(ResourceId)
     }
 
     /// Pass names per stage, the shape tests and `plan` show.

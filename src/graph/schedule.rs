@@ -2,7 +2,8 @@
 //! barriers between stages.
 
 use super::cull::alive_passes;
-use super::deps::{Dependencies, DependencyError, PassId, PassUse, ResourceId, dependencies};
+use super::deps::{Dependencies, DependencyError, PassUse, dependencies};
+use super::id::{Id, KeptPass, PassIndex, ResourceId};
 use super::interface::BindingKind;
 use petgraph::Direction;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -71,17 +72,19 @@ pub struct Schedule {
     pub all: Dependencies,
     /// `alive[p]`: pass `p` contributes to an output.
     pub alive: Vec<bool>,
-    /// Kept passes in program order; the indices below refer to positions in this list.
-    pub kept: Vec<PassId>,
+    /// Kept passes in program order: `kept[k]` is kept pass `k`.
+    pub kept: Vec<PassIndex>,
     /// Dependencies among kept passes only.
-    pub deps: Dependencies,
+    pub deps: Dependencies<KeptPass>,
+    /// `levels[k]`: the stage of kept pass `k`.
     pub levels: Vec<usize>,
-    pub stages: Vec<Vec<usize>>,
+    pub stages: Vec<Vec<KeptPass>>,
     pub barriers: Vec<Barrier>,
 }
 
 /// Dependencies, culling, stages and barriers. `usages[p]` are pass `p`'s (resource, usage)
-/// pairs, `persistent(r)` whether `r` may be read before this frame writes it.
+/// pairs, `persistent(r)` whether `r` may be read before this frame writes it. An error names
+/// passes in program order.
 pub fn schedule(
     uses: &[Vec<PassUse>],
     usages: &[Vec<(ResourceId, Usage)>],
@@ -90,11 +93,11 @@ pub fn schedule(
 ) -> Result<Schedule, DependencyError> {
     let all = dependencies(uses, persistent)?;
     let alive = alive_passes(&all, outputs);
-    let kept: Vec<PassId> = (0..uses.len()).filter(|&p| alive[p]).collect();
+    let kept: Vec<PassIndex> = PassIndex::all(uses.len()).filter(|&p| alive[p]).collect();
     // Hazards are recomputed among the kept passes: a culled pass may have been the only
     // link between two passes that still conflict with each other.
     let kept_uses: Vec<Vec<PassUse>> = kept.iter().map(|&p| uses[p].clone()).collect();
-    let deps = dependencies(&kept_uses, persistent)?;
+    let deps = dependencies(&kept_uses, persistent).map_err(|e| in_program_order(e, &kept))?;
     let levels = stage_of_each_pass(&deps.graph);
     let stages = stages(&levels);
     let kept_usages: Vec<_> = kept.iter().map(|&p| usages[p].clone()).collect();
@@ -110,9 +113,29 @@ pub fn schedule(
     })
 }
 
+/// An error among the kept passes, its passes named by their place in program order. (Kept
+/// passes have no hazards the whole graph lacks, so this is not expected to happen.)
+fn in_program_order(e: DependencyError<KeptPass>, kept: &[PassIndex]) -> DependencyError {
+    match e {
+        DependencyError::ReadBeforeWrite {
+            pass,
+            resource,
+            later_writer,
+        } => DependencyError::ReadBeforeWrite {
+            pass: kept[pass],
+            resource,
+            later_writer: later_writer.map(|k| kept[k]),
+        },
+        DependencyError::Cycle { passes, via } => DependencyError::Cycle {
+            passes: passes.into_iter().map(|k| kept[k]).collect(),
+            via,
+        },
+    }
+}
+
 /// Level of each pass: one more than the highest level among its dependencies. Edges run from
 /// earlier to later passes, so one pass in program order suffices.
-pub fn stage_of_each_pass<E>(graph: &DiGraph<PassId, E>) -> Vec<usize> {
+pub fn stage_of_each_pass<P, E>(graph: &DiGraph<P, E>) -> Vec<usize> {
     let mut level = vec![0; graph.node_count()];
     for p in 0..graph.node_count() {
         level[p] = graph
@@ -124,25 +147,25 @@ pub fn stage_of_each_pass<E>(graph: &DiGraph<PassId, E>) -> Vec<usize> {
     level
 }
 
-/// Groups passes by level, each stage in program order.
-pub fn stages(levels: &[usize]) -> Vec<Vec<PassId>> {
+/// Groups passes by level (`levels[i]` is pass `P::new(i)`'s), each stage in program order.
+pub fn stages<P: Id>(levels: &[usize]) -> Vec<Vec<P>> {
     let count = levels.iter().max().map_or(0, |m| m + 1);
     let mut stages = vec![Vec::new(); count];
     for (p, &l) in levels.iter().enumerate() {
-        stages[l].push(p);
+        stages[l].push(P::new(p));
     }
     stages
 }
 
 /// One barrier per resource whose usage changes, or is written, across a stage boundary.
-/// `usages[p]` lists (resource, usage) for pass `p`.
-pub fn barriers(stages: &[Vec<PassId>], usages: &[Vec<(ResourceId, Usage)>]) -> Vec<Barrier> {
+/// `usages[i]` lists (resource, usage) for pass `P::new(i)`.
+pub fn barriers<P: Id>(stages: &[Vec<P>], usages: &[Vec<(ResourceId, Usage)>]) -> Vec<Barrier> {
     let mut last: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
     let mut out = Vec::new();
     for (s, passes) in stages.iter().enumerate() {
         let mut here: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
         for &p in passes {
-            for &(r, usage) in &usages[p] {
+            for &(r, usage) in &usages[p.index()] {
                 let set = here.entry(r).or_default();
                 if !set.contains(&usage) {
                     set.push(usage);
@@ -172,14 +195,23 @@ pub fn barriers(stages: &[Vec<PassId>], usages: &[Vec<(ResourceId, Usage)>]) -> 
 mod tests {
     use super::*;
 
+    const R: ResourceId = ResourceId(0);
+    const S: ResourceId = ResourceId(1);
+
+    fn stages(list: &[&[usize]]) -> Vec<Vec<KeptPass>> {
+        list.iter()
+            .map(|s| s.iter().map(|&k| KeptPass(k)).collect())
+            .collect()
+    }
+
     #[test]
     fn read_after_read_of_the_same_kind_needs_no_barrier() {
         let usages = vec![
-            vec![(0, Usage::StorageWrite)],
-            vec![(0, Usage::StorageRead)],
-            vec![(0, Usage::StorageRead)],
+            vec![(R, Usage::StorageWrite)],
+            vec![(R, Usage::StorageRead)],
+            vec![(R, Usage::StorageRead)],
         ];
-        let b = barriers(&[vec![0], vec![1], vec![2]], &usages);
+        let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
         assert_eq!(b[0].before_stage, 1);
         assert_eq!(b[0].from, vec![Usage::StorageWrite]);
@@ -189,20 +221,20 @@ mod tests {
     #[test]
     fn write_after_write_gets_a_barrier_though_the_usage_is_unchanged() {
         let usages = vec![
-            vec![(0, Usage::StorageWrite)],
-            vec![(0, Usage::StorageWrite)],
+            vec![(R, Usage::StorageWrite)],
+            vec![(R, Usage::StorageWrite)],
         ];
-        assert_eq!(barriers(&[vec![0], vec![1]], &usages).len(), 1);
+        assert_eq!(barriers(&stages(&[&[0], &[1]]), &usages).len(), 1);
     }
 
     #[test]
     fn a_resource_skipping_a_stage_gets_its_barrier_where_it_is_next_used() {
         let usages = vec![
-            vec![(0, Usage::StorageWrite)],
-            vec![(1, Usage::StorageWrite)],
-            vec![(0, Usage::Sampled)],
+            vec![(R, Usage::StorageWrite)],
+            vec![(S, Usage::StorageWrite)],
+            vec![(R, Usage::Sampled)],
         ];
-        let b = barriers(&[vec![0], vec![1], vec![2]], &usages);
+        let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
         assert_eq!(b[0].before_stage, 2);
     }
