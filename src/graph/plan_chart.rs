@@ -2,6 +2,7 @@
 //! schedule order, and where it is alive between them; with the physical object each transient
 //! resource lives in, so memory reuse can be read off the chart (`passgraph plan --chart`).
 
+use super::id::{KeptPass, ResourceId};
 use super::interface::Access;
 use super::plan::{Plan, ResourceKind};
 use super::plan_text::human_bytes;
@@ -21,13 +22,13 @@ fn cell(access: Option<Access>, alive: bool) -> &'static str {
 /// The chart as text: a header of stages and passes, then one row per resource.
 pub fn lifetime_chart(plan: &Plan) -> String {
     // Passes in schedule order, each with its stage.
-    let columns: Vec<(usize, usize)> = plan
+    let columns: Vec<(usize, KeptPass)> = plan
         .stages
         .iter()
         .enumerate()
         .flat_map(|(stage, passes)| passes.iter().map(move |&p| (stage, p)))
         .collect();
-    let width = |p: usize| plan.passes[p].name.len().max(2);
+    let width = |p: KeptPass| plan.passes[p].name.len().max(2);
     let name_width = plan
         .resources
         .iter()
@@ -75,7 +76,7 @@ pub fn lifetime_chart(plan: &Plan) -> String {
             let access = plan.passes[p]
                 .uses
                 .iter()
-                .find(|(rid, _)| *rid == id)
+                .find(|(rid, _)| *rid == ResourceId(id))
                 .map(|u| u.1);
             let alive = r
                 .lifetime
