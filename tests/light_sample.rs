@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::bvh_gpu::{Gpu, gpu};
+use common::bvh_gpu::{Gpu, dispatch_and_read, gpu, output_buffer};
 use common::root;
 use glam::{DVec3, Mat3, Vec3};
 use passgraph::graph::shader_source::ShaderSource;
@@ -88,19 +88,7 @@ fn run(gpu: &Gpu, light: &Light, queries: &[Query]) -> Vec<Answer> {
     };
     let light_buffer = init(bytemuck::bytes_of(light), wgpu::BufferUsages::UNIFORM);
     let query_buffer = init(bytemuck::cast_slice(queries), wgpu::BufferUsages::STORAGE);
-    let size = (queries.len() * size_of::<Answer>()) as u64;
-    let answers = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let answers = output_buffer(gpu, (queries.len() * size_of::<Answer>()) as u64);
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
@@ -119,22 +107,7 @@ fn run(gpu: &Gpu, light: &Light, queries: &[Query]) -> Vec<Answer> {
             },
         ],
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(queries.len().div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&answers, 0, &readback, 0, size);
-    gpu.queue.submit([encoder.finish()]);
-    readback.map_async(wgpu::MapMode::Read, .., |r| r.expect("map"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll");
-    let out = bytemuck::cast_slice(&readback.get_mapped_range(..).expect("mapped")).to_vec();
-    readback.unmap();
-    out
+    dispatch_and_read(gpu, &pipeline, &bind_group, queries.len(), &answers)
 }
 
 /// Points in front of the light at distances from 0.001 to 100 times its size, head-on and

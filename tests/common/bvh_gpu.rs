@@ -95,18 +95,7 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
     let nodes = view("bvh", &scene.bvh_bytes());
     let query_buffer = storage("queries", bytemuck::cast_slice(queries));
     let size = (queries.len() * size_of::<Answer>()) as u64;
-    let answers = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("answers"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let answers = output_buffer(gpu, size);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("bvh_check"),
         source: wgpu::ShaderSource::Wgsl(check_shader().code.into()),
@@ -148,17 +137,46 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
             },
         ],
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
+    dispatch_and_read(gpu, &pipeline, &bind_group, queries.len(), &answers)
+}
+
+/// A storage buffer of `size` bytes a test shader writes its answers to.
+pub fn output_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("answers"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// Runs `pipeline` with `bind_group` over `count` items (workgroups of 64) and reads `answers`
+/// (an [`output_buffer`] the bind group holds) back.
+pub fn dispatch_and_read<T: bytemuck::Pod>(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    bind_group: &wgpu::BindGroup,
+    count: usize,
+    answers: &wgpu::Buffer,
+) -> Vec<T> {
+    let size = answers.size();
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(queries.len().div_ceil(64) as u32, 1, 1);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
     }
-    encoder.copy_buffer_to_buffer(&answers, 0, &readback, 0, size);
+    encoder.copy_buffer_to_buffer(answers, 0, &readback, 0, size);
     gpu.queue.submit([encoder.finish()]);
     readback.map_async(wgpu::MapMode::Read, .., |result| result.expect("map"));
-    device
+    gpu.device
         .poll(wgpu::PollType::wait_indefinitely())
         .expect("poll");
     let answers = bytemuck::cast_slice(&readback.get_mapped_range(..).expect("mapped")).to_vec();
