@@ -310,3 +310,21 @@ fn no_test_file_is_a_usage_error() {
     let out = passgraph(root(), &["test"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn the_largest_seed_count_is_checked_without_listing_the_seeds() {
+    // Found by the fuzzer: `seeds: 4294967295` made the reader allocate a list of four billion
+    // seeds (16 GiB) before any rendering; a count is kept as a count.
+    let project = project();
+    let file = project.path().join("tests/graphs/pathtracer.ron");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let first = text.find("seeds: 16,").expect("a case with 16 seeds");
+    let edited = format!(
+        "{}seeds: 4294967295,{}",
+        &text[..first],
+        &text[first + "seeds: 16,".len()..]
+    );
+    std::fs::write(&file, edited).unwrap();
+    let cases = passgraph::graphtest::run::check_file(&file).unwrap();
+    assert!(cases > 0);
+}

@@ -41,7 +41,10 @@ struct Case {
     scene: Option<PathBuf>,
     size: [u32; 2],
     frames: u32,
-    seeds: Vec<u32>,
+    /// The case renders seeds first_seed, first_seed + 1, ... (`seeds` of them, wrapping),
+    /// generated as it goes: a count is not a list to allocate.
+    first_seed: u32,
+    seeds: u32,
     set: Vec<String>,
     expect: Vec<Expectation>,
     /// Reference images by path as written, at the case's size (or as read, for `Mean`).
@@ -341,7 +344,8 @@ fn read_case(
         scene,
         size: [w, h],
         frames: c.frames,
-        seeds: (0..c.seeds).map(|i| c.seed.wrapping_add(i)).collect(),
+        first_seed: c.seed,
+        seeds: c.seeds,
         set: c.set,
         expect: c.expect,
         references,
@@ -452,7 +456,7 @@ fn render_seeds(
     let wants_dropped = case.expect.contains(&Expectation::NoDroppedSamples);
     let scene = case.scene.clone().expect("checked when the file was read");
     let mut seeds = Vec::new();
-    for &seed in &case.seeds {
+    for seed in (0..case.seeds).map(|i| case.first_seed.wrapping_add(i)) {
         let settings = RenderSettings {
             size: case.size,
             seed,
