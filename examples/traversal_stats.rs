@@ -167,6 +167,20 @@ struct Kind {
     lock_node: u64,
 }
 
+impl Kind {
+    fn new(name: &'static str) -> Kind {
+        Kind {
+            name,
+            rays: 0,
+            c: Counts::default(),
+            group_max: 0,
+            group_sum: 0,
+            lock_tri: 0,
+            lock_node: 0,
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = args
@@ -188,35 +202,7 @@ fn main() {
         gpu.bvh.max_depth,
         gpu.bvh.max_leaf_triangles
     );
-    let mut kinds = [
-        Kind {
-            name: "primary",
-            rays: 0,
-            c: Counts::default(),
-            group_max: 0,
-            group_sum: 0,
-            lock_tri: 0,
-            lock_node: 0,
-        },
-        Kind {
-            name: "bounce",
-            rays: 0,
-            c: Counts::default(),
-            group_max: 0,
-            group_sum: 0,
-            lock_tri: 0,
-            lock_node: 0,
-        },
-        Kind {
-            name: "shadow",
-            rays: 0,
-            c: Counts::default(),
-            group_max: 0,
-            group_sum: 0,
-            lock_tri: 0,
-            lock_node: 0,
-        },
-    ];
+    let mut kinds = ["primary", "bounce", "shadow"].map(Kind::new);
     let mut rng = Rng(1);
     let (mut refill_max, mut separate_max, mut lane_sum) = (0u64, 0u64, 0u64);
     for y in 0..size {

@@ -208,6 +208,39 @@ fn signed_zero_directions() -> Vec<Vec3> {
     dirs
 }
 
+/// Asserts intersect_box equals the exact reference for every box, every origin on the lattice
+/// of quarter steps from -0.5 to 1.5 (on faces, edges and corners, inside and outside) and
+/// every direction, over three t ranges; returns (cases, hits).
+fn assert_slab_test_is_exact(boxes: &[(Vec3, Vec3)], dirs: &[Vec3]) -> (usize, usize) {
+    let lattice: Vec<f32> = (-2..=6).map(|i| i as f32 * 0.25).collect();
+    let (mut cases, mut hits) = (0usize, 0usize);
+    for &(lo, hi) in boxes {
+        for &x in &lattice {
+            for &y in &lattice {
+                for &z in &lattice {
+                    let o = Vec3::new(x, y, z);
+                    for &d in dirs {
+                        let ray = PreparedRay::new(&Ray { origin: o, dir: d });
+                        for (tmin, tmax) in [(0.0f32, f32::MAX), (0.0, 0.5), (0.25, 1.0)] {
+                            let got = intersect_box(&ray, lo, hi, tmin, tmax);
+                            let want =
+                                box_reference(o, d, lo, hi, f64::from(tmin), f64::from(tmax));
+                            assert!(
+                                got == want,
+                                "box {lo}..{hi}, origin {o}, dir {d:?}, t in [{tmin}, {tmax}]: \
+                                 {got}, exact {want}"
+                            );
+                            cases += 1;
+                            hits += usize::from(got);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (cases, hits)
+}
+
 #[test]
 fn slab_test_with_signed_zero_directions_on_faces_and_flat_boxes_matches_exact_reference() {
     // A solid box, boxes flat along each axis, a box flat along two axes (a segment) and a
@@ -221,32 +254,7 @@ fn slab_test_with_signed_zero_directions_on_faces_and_flat_boxes_matches_exact_r
         (Vec3::new(0.0, 0.5, 0.5), Vec3::new(1.0, 0.5, 0.5)),
         (Vec3::splat(0.5), Vec3::splat(0.5)),
     ];
-    let lattice: Vec<f32> = (-2..=6).map(|i| i as f32 * 0.25).collect();
-    let dirs = signed_zero_directions();
-    let (mut cases, mut hits) = (0usize, 0usize);
-    for &(lo, hi) in &boxes {
-        for &x in &lattice {
-            for &y in &lattice {
-                for &z in &lattice {
-                    let o = Vec3::new(x, y, z);
-                    for &d in &dirs {
-                        let ray = PreparedRay::new(&Ray { origin: o, dir: d });
-                        for (tmin, tmax) in [(0.0f32, f32::MAX), (0.0, 0.5), (0.25, 1.0)] {
-                            let got = intersect_box(&ray, lo, hi, tmin, tmax);
-                            let want =
-                                box_reference(o, d, lo, hi, f64::from(tmin), f64::from(tmax));
-                            assert_eq!(
-                                got, want,
-                                "box {lo}..{hi}, origin {o}, dir {d:?}, t in [{tmin}, {tmax}]"
-                            );
-                            cases += 1;
-                            hits += usize::from(got);
-                        }
-                    }
-                }
-            }
-        }
-    }
+    let (cases, hits) = assert_slab_test_is_exact(&boxes, &signed_zero_directions());
     eprintln!("slab test: {cases} cases equal the exact reference ({hits} hits)");
 }
 
@@ -276,32 +284,7 @@ fn slab_test_of_rays_without_a_flat_axis_matches_exact_reference() {
             dirs.push(base * Vec3::new(flip(1), flip(2), flip(4)));
         }
     }
-    let lattice: Vec<f32> = (-2..=6).map(|i| i as f32 * 0.25).collect();
-    let (mut cases, mut hits) = (0usize, 0usize);
-    for &(lo, hi) in &boxes {
-        for &x in &lattice {
-            for &y in &lattice {
-                for &z in &lattice {
-                    let o = Vec3::new(x, y, z);
-                    for &d in &dirs {
-                        let ray = PreparedRay::new(&Ray { origin: o, dir: d });
-                        for (tmin, tmax) in [(0.0f32, f32::MAX), (0.0, 0.5), (0.25, 1.0)] {
-                            let got = intersect_box(&ray, lo, hi, tmin, tmax);
-                            let want =
-                                box_reference(o, d, lo, hi, f64::from(tmin), f64::from(tmax));
-                            assert!(
-                                got == want,
-                                "box {lo}..{hi}, origin {o}, dir {d:?}, t in [{tmin}, {tmax}]: \
-                                 {got}, exact {want}"
-                            );
-                            cases += 1;
-                            hits += usize::from(got);
-                        }
-                    }
-                }
-            }
-        }
-    }
+    let (cases, hits) = assert_slab_test_is_exact(&boxes, &dirs);
     eprintln!("slab test without flat axes: {cases} cases ({hits} hits)");
 }
 
