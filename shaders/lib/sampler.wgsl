@@ -48,6 +48,13 @@ fn sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSour
     return SampleSource(pixel.y * frame.width + pixel.x, frame_index * samples_per_frame + k, frame.seed);
 }
 
+// Part j of `count` splitting one sample (several bounces, several light samples): sample
+// index index * count + j, so one sample's parts are consecutive points of one stratified
+// sequence.
+fn sample_split(source: SampleSource, count: u32, j: u32) -> SampleSource {
+    return SampleSource(source.pixel, source.index * count + j, source.seed);
+}
+
 // A 32-bit hash of the pixel, seed and dimension: the pair's scrambling seed.
 fn sampler_seed(source: SampleSource, dim: u32) -> u32 {
     return pcg_hash(pcg_hash(pcg_hash(source.pixel ^ pcg_hash(source.seed)) ^ dim) + dim);

@@ -3,9 +3,8 @@
 // needs and includes it and primary.wgsl.
 
 // A pass param: next-event estimates per sample at the primary hit, averaged (splitting, as
-// `bounces` for the indirect channel). Sample i's estimate j takes sample index
-// i * light_samples + j of the light's sampler pairs, so one sample's points on a light are
-// consecutive points of one stratified sequence: a penumbra is integrated by a small net of
+// `bounces` for the indirect channel; sampler.wgsl's sample_split), so one sample's points on a
+// light are consecutive points of one stratified sequence: a penumbra is integrated by a small net of
 // shadow rays rather than one, for one more shadow ray each.
 override light_samples: u32 = 1u;
 
@@ -22,7 +21,7 @@ fn shade_direct(ray: Primary, source: SampleSource) -> DirectSample {
     let emitted = select(vec3<f32>(0.0), scene_material(materials, s.material).ke, s.front);
     var sum = vec3<f32>(0.0);
     for (var j = 0u; j < light_samples; j++) {
-        let light = SampleSource(source.pixel, source.index * light_samples + j, source.seed);
+        let light = sample_split(source, light_samples, j);
         sum += direct_light(s, -ray.dir, light, DIM_DIRECT_SELECT, DIM_DIRECT_LIGHT);
     }
     return DirectSample(emitted, sum / f32(light_samples));

@@ -15,7 +15,7 @@ override bounces: u32 = 1u;
 // image up to f32 rounding), but neighbouring pixels, which run side by side in SIMD lanes, then
 // trace rays into the same wedge of directions at the same time: a lane waits less for its
 // slowest neighbour, and nearby rays visit the same nodes. With 8 bounces per sample it takes
-// 0.85x the CPU time on the Cornell box, 0.79x on the bunny (docs/benchmark-history.md).
+// 0.83x the CPU time on the Cornell box, 0.79x on the bunny (docs/benchmark-history.md).
 override coherent_bounces: bool = true;
 
 // Bounces ordered together. Each aligned batch of 2^k consecutive Sobol points is a (0,k,2)-net,
@@ -37,7 +37,7 @@ fn shade_indirect(ray: Primary, source: SampleSource) -> vec3<f32> {
         var u: array<vec2<f32>, BOUNCE_BATCH>;
         var order: array<u32, BOUNCE_BATCH>;
         for (var t = 0u; t < n; t++) {
-            u[t] = sample_2d(bounce_source(source, first + t), DIM_BOUNCE);
+            u[t] = sample_2d(sample_split(source, bounces, first + t), DIM_BOUNCE);
             order[t] = t;
         }
         if coherent_bounces {
@@ -52,15 +52,10 @@ fn shade_indirect(ray: Primary, source: SampleSource) -> vec3<f32> {
         }
         for (var j = 0u; j < n; j++) {
             let t = order[j];
-            sum += bounce_light(ray, s, m, bounce_source(source, first + t), u[t]);
+            sum += bounce_light(ray, s, m, sample_split(source, bounces, first + t), u[t]);
         }
     }
     return sum / f32(bounces);
-}
-
-// Bounce j of a sample: its sample index in the bounce dimensions.
-fn bounce_source(source: SampleSource, j: u32) -> SampleSource {
-    return SampleSource(source.pixel, source.index * bounces + j, source.seed);
 }
 
 // One bounce from s (material m) in the cosine-distributed direction u picks: light reaching s
