@@ -12,6 +12,7 @@
 #include "lib/brdf.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
+#include "lib/tile_order.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
 #include "lib/light_sample.wgsl"
@@ -72,9 +73,11 @@ fn shade(id: vec3<u32>) {
 
 @compute @workgroup_size(8, 8)
 fn main(
-    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
     @builtin(local_invocation_index) local_index: u32,
 ) {
-    shade(id);
+    shade(scattered_pixel(group, groups, local, frame));
     count_rays(local_index);
 }

@@ -89,7 +89,7 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 width,
                 height,
                 seed,
-                pad0,
+                tile_row_stride,
                 pad1,
                 pad2
             }),

@@ -89,7 +89,8 @@ struct Frame {
     width: u32,
     height: u32,
     seed: u32,
-    pad0: u32,
+    // How image passes order their rows of tiles: lib/tile_order.wgsl.
+    tile_row_stride: u32,
     pad1: u32,
     pad2: u32,
 }

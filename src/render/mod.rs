@@ -8,3 +8,4 @@ pub mod image;
 pub mod output_texture;
 pub mod provided;
 pub mod session;
+pub mod tile_order;

@@ -6,6 +6,7 @@
 use crate::gpu::ProvidedData;
 use crate::graph::param::ParamType;
 use crate::graph::provided::{ProvidedKind, ProvidedSet};
+use crate::render::tile_order::tile_row_stride;
 use crate::scene::gpu::{Frame, GpuCamera};
 use crate::scene::{Scene, SceneGpu};
 use bytemuck::Zeroable;
@@ -160,6 +161,7 @@ pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> V
         width: size[0],
         height: size[1],
         seed,
+        tile_row_stride: tile_row_stride(size[1]),
         ..Default::default()
     };
     bytemuck::bytes_of(&frame).to_vec()

@@ -96,7 +96,8 @@ pub struct Frame {
     pub width: u32,
     pub height: u32,
     pub seed: u32,
-    pub pad0: u32,
+    /// How image passes order their rows of tiles: `render::tile_order`.
+    pub tile_row_stride: u32,
     pub pad1: u32,
     pub pad2: u32,
 }

@@ -159,6 +159,18 @@ pub fn dispatch_and_read<T: bytemuck::Pod>(
     count: usize,
     answers: &wgpu::Buffer,
 ) -> Vec<T> {
+    let groups = [count.div_ceil(64) as u32, 1, 1];
+    dispatch_groups_and_read(gpu, pipeline, bind_group, groups, answers)
+}
+
+/// As [`dispatch_and_read`], over a grid of `groups` workgroups.
+pub fn dispatch_groups_and_read<T: bytemuck::Pod>(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    bind_group: &wgpu::BindGroup,
+    groups: [u32; 3],
+    answers: &wgpu::Buffer,
+) -> Vec<T> {
     let size = answers.size();
     let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
@@ -171,7 +183,7 @@ pub fn dispatch_and_read<T: bytemuck::Pod>(
         let mut pass = encoder.begin_compute_pass(&Default::default());
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
+        pass.dispatch_workgroups(groups[0], groups[1], groups[2]);
     }
     encoder.copy_buffer_to_buffer(answers, 0, &readback, 0, size);
     gpu.queue.submit([encoder.finish()]);
