@@ -5,10 +5,8 @@
 
 mod common;
 
-use common::bvh_gpu::{Gpu, dispatch_and_read, gpu, output_buffer};
-use common::root;
+use common::bvh_gpu::{Gpu, bind_buffers, dispatch_and_read, gpu, output_buffer, test_pipeline};
 use glam::{DVec3, Mat3, Vec3};
-use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::lights::{Light, NO_TRIANGLE};
 
 #[repr(C)]
@@ -64,49 +62,19 @@ fn projected_solid_angle(polygon: &[DVec3], x: Vec3, n: Vec3) -> f64 {
 
 fn run(gpu: &Gpu, light: &Light, queries: &[Query]) -> Vec<Answer> {
     use wgpu::util::DeviceExt;
-    let device = &gpu.device;
-    let path = root().join("tests/data/scenes/light_sample_check.wgsl");
-    let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("light_sample_check"),
-        source: wgpu::ShaderSource::Wgsl(source.code.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let pipeline = test_pipeline(gpu, "light_sample_check");
     let init = |contents: &[u8], usage| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents,
-            usage,
-        })
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents,
+                usage,
+            })
     };
     let light_buffer = init(bytemuck::bytes_of(light), wgpu::BufferUsages::UNIFORM);
     let query_buffer = init(bytemuck::cast_slice(queries), wgpu::BufferUsages::STORAGE);
     let answers = output_buffer(gpu, (queries.len() * size_of::<Answer>()) as u64);
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: light_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: query_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: answers.as_entire_binding(),
-            },
-        ],
-    });
+    let bind_group = bind_buffers(gpu, &pipeline, &[&light_buffer, &query_buffer, &answers]);
     dispatch_and_read(gpu, &pipeline, &bind_group, queries.len(), &answers)
 }
 

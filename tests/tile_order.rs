@@ -3,9 +3,7 @@
 
 mod common;
 
-use common::bvh_gpu::{dispatch_groups_and_read, gpu, output_buffer};
-use common::root;
-use passgraph::graph::shader_source::ShaderSource;
+use common::bvh_gpu::{bind_buffers, dispatch_groups_and_read, gpu, output_buffer, test_pipeline};
 use passgraph::render::provided::frame_bytes;
 use passgraph::render::tile_order::{TILE, scattered_tile, tile_row_stride};
 use wgpu::util::DeviceExt;
@@ -13,41 +11,16 @@ use wgpu::util::DeviceExt;
 /// (count, linear workgroup index) per pixel, row-major.
 fn shade(size: [u32; 2]) -> Vec<[u32; 2]> {
     let gpu = gpu();
-    let device = &gpu.device;
-    let path = root().join("tests/data/scenes/tile_order_check.wgsl");
-    let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("tile_order_check"),
-        source: wgpu::ShaderSource::Wgsl(source.code.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("frame"),
-        contents: &frame_bytes(size, 0, 0, 0),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
+    let pipeline = test_pipeline(&gpu, "tile_order_check");
+    let frame = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: &frame_bytes(size, 0, 0, 0),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
     let answers = output_buffer(&gpu, u64::from(size[0] * size[1]) * 8);
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: answers.as_entire_binding(),
-            },
-        ],
-    });
+    let bind_group = bind_buffers(&gpu, &pipeline, &[&frame, &answers]);
     let groups = [size[0].div_ceil(TILE), size[1].div_ceil(TILE), 1];
     dispatch_groups_and_read(&gpu, &pipeline, &bind_group, groups, &answers)
 }

@@ -140,6 +140,49 @@ pub fn run_on_gpu(gpu: &Gpu, scene: &SceneGpu, queries: &[Query]) -> Vec<Answer>
     dispatch_and_read(gpu, &pipeline, &bind_group, queries.len(), &answers)
 }
 
+/// The compute pipeline of test shader `tests/data/scenes/NAME.wgsl` (entry point `main`, its
+/// includes resolved against `shaders/`).
+pub fn test_pipeline(gpu: &Gpu, name: &str) -> wgpu::ComputePipeline {
+    let path = root().join(format!("tests/data/scenes/{name}.wgsl"));
+    let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
+    let module = gpu
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(name),
+            source: wgpu::ShaderSource::Wgsl(source.code.into()),
+        });
+    gpu.device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(name),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+}
+
+/// A bind group for group 0 of `pipeline` with `buffers` at bindings 0, 1, 2...
+pub fn bind_buffers(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, buffer)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
 /// A storage buffer of `size` bytes a test shader writes its answers to.
 pub fn output_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
