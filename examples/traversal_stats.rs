@@ -11,6 +11,7 @@
 //! origins offset as shaders/lib/sampling.wgsl does).
 
 use glam::Vec3;
+use passgraph::scene::bvh_octants::octant_copies;
 use passgraph::scene::intersect::{PreparedRay, intersect_box, intersect_triangle};
 use passgraph::scene::{BvhNode, Ray, SceneGpu, Triangle, load_scene};
 use std::path::Path;
@@ -191,9 +192,11 @@ fn main() {
     let mut gpu = SceneGpu::build(&scene.mesh);
     if std::env::args().any(|a| a == "--unsnapped") {
         unsnap(&mut gpu.nodes, &gpu.triangles, 0);
+        let root = gpu.occluder_root as usize;
+        gpu.octant_nodes = octant_copies(&gpu.nodes, root > 0 && root < gpu.nodes.len());
     }
     let camera = scene.camera.to_gpu(size, size);
-    let (nodes, tris) = (&gpu.nodes, &gpu.triangles);
+    let tris = &gpu.triangles;
     println!(
         "{path}: {} triangles, {} nodes, {} leaves, depth {}, max leaf {}",
         tris.len(),
@@ -220,7 +223,7 @@ fn main() {
                     dir,
                 };
                 let mut c = Counts::default();
-                let hit = traverse(nodes, tris, &ray, 0.0, 3.0e38, false, &mut c);
+                let hit = traverse(gpu.nodes_for(&ray), tris, &ray, 0.0, 3.0e38, false, &mut c);
                 group[0][lane as usize] = c.trace.clone();
                 kinds[0].rays += 1;
                 kinds[0].c += c;
@@ -242,13 +245,14 @@ fn main() {
                     let end =
                         Vec3::from(light.p0) + a * Vec3::from(light.e1) + b * Vec3::from(light.e2);
                     let mut c = Counts::default();
+                    let shadow = Ray {
+                        origin,
+                        dir: end - origin,
+                    };
                     traverse(
-                        nodes,
+                        gpu.nodes_for(&shadow),
                         tris,
-                        &Ray {
-                            origin,
-                            dir: end - origin,
-                        },
+                        &shadow,
                         0.0,
                         1.0 - 1e-4,
                         true,
@@ -260,10 +264,11 @@ fn main() {
                 }
                 let d = cosine(n, rng.unit(), rng.unit());
                 let mut c = Counts::default();
+                let bounce = Ray { origin, dir: d };
                 traverse(
-                    nodes,
+                    gpu.nodes_for(&bounce),
                     tris,
-                    &Ray { origin, dir: d },
+                    &bounce,
                     0.0,
                     3.0e38,
                     false,

@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 use passgraph::scene::bvh::{MAX_DEPTH, is_degenerate};
+use passgraph::scene::bvh_octants::OCTANTS;
 use passgraph::scene::intersect::{
     PreparedRay, brute_force_any_hit, brute_force_closest_hit, intersect_triangle,
 };
@@ -587,9 +588,10 @@ fn packed_nodes_decode_exactly_to_the_node_boxes() {
             .collect();
         let scene = scene(&soup);
         let bytes = scene.bvh_bytes();
-        assert_eq!(bytes.len(), 32 + 16 * scene.nodes.len());
+        assert_eq!(bytes.len(), 32 + 16 * OCTANTS * scene.nodes.len());
+        assert_eq!(scene.octant_nodes.len(), OCTANTS * scene.nodes.len());
         let grid = scene.grid;
-        for node in &scene.nodes {
+        for node in &scene.octant_nodes {
             let packed = grid.encode(node);
             for k in 0..3 {
                 let decode = |q: u32| q as f32 * grid.step[k] + grid.origin[k];

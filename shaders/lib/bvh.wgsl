@@ -66,6 +66,9 @@ struct BvhRay {
     far_offset: vec3<f32>,
     near_shift: vec3<u32>,
     far_shift: vec3<u32>,
+    // The first node of the BVH's copy for the direction's octant (src/scene/bvh_octants.rs:
+    // each copy stores the child nearer for that octant first).
+    base: u32,
 }
 
 struct BvhTriangleHit {
@@ -106,7 +109,12 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
     let near_shift = select(vec3<u32>(0u), vec3<u32>(16u), cell_scale < vec3<f32>(0.0));
     return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale,
                   cell_offset - cell_slack, cell_offset + cell_slack, near_shift,
-                  vec3<u32>(16u) - near_shift);
+                  vec3<u32>(16u) - near_shift, scene_node_count * bvh_octant(dir));
+}
+
+// Bit k set when dir[k] is negative, as bvh_octants.rs's octant.
+fn bvh_octant(dir: vec3<f32>) -> u32 {
+    return select(0u, 1u, dir.x < 0.0) | select(0u, 2u, dir.y < 0.0) | select(0u, 4u, dir.z < 0.0);
 }
 
 // 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the
@@ -319,12 +327,12 @@ fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> Bvh
         return walk;
     }
     let i = walk.node;
-    let packed = scene_packed_node(bvh, i);
+    let packed = scene_packed_node(bvh, ray.base + i);
     let node = scene_node_links(packed);
     var hit: bool;
     // `flat` is a constant in each inlined copy of the loop: no branch per node.
     if (flat) {
-        let box = scene_node(bvh, ray.grid, i);
+        let box = scene_node(bvh, ray.grid, ray.base + i);
         hit = bvh_intersect_box(ray, box.lo, box.hi, tmin, tmax);
     } else {
         hit = bvh_intersect_box_moving(ray, packed, tmin, tmax);

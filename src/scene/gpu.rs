@@ -4,6 +4,7 @@
 
 use super::bvh::{Bvh, BvhStats};
 use super::bvh_grid::BvhGrid;
+use super::bvh_octants::{octant, octant_copies};
 use super::file::Scene;
 use super::hull::hull_faces;
 use super::intersect::{self, Hit, Ray};
@@ -185,6 +186,9 @@ pub struct SceneGpu {
     pub light_power: Vec<f32>,
     /// Depth-first threaded BVH; node 0 is the root. Empty only if no triangle has area.
     pub nodes: Vec<BvhNode>,
+    /// `nodes` re-threaded per octant of ray directions (`bvh_octants.rs`): what the GPU and
+    /// the CPU twin traverse, the copy for ray direction d at `octant(d) * nodes.len()`.
+    pub octant_nodes: Vec<BvhNode>,
     /// Where shadow rays start their traversal: the subtree without the scene's hull faces,
     /// which no shadow ray can meet (`hull.rs`). The `scene_occluder_root` override.
     pub occluder_root: u32,
@@ -214,6 +218,8 @@ impl SceneGpu {
         let materials = mesh.materials.clone();
         let lights = scene_lights(&triangles, &materials);
         let light_power = light_power(&lights, &materials);
+        // Shadow rays start at occluder_root, which must stay the occluders' subtree.
+        let keep_root = bvh.occluder_root > 0 && (bvh.occluder_root as usize) < bvh.nodes.len();
         let has_specular = triangles.iter().any(|t| {
             materials
                 .get(t.material as usize)
@@ -225,6 +231,7 @@ impl SceneGpu {
             materials,
             lights,
             light_power,
+            octant_nodes: octant_copies(&bvh.nodes, keep_root),
             nodes: bvh.nodes,
             occluder_root: bvh.occluder_root,
             grid: bvh.grid,
@@ -233,10 +240,10 @@ impl SceneGpu {
         }
     }
 
-    /// The `scene.bvh` buffer: the grid, then each node as one texel.
+    /// The `scene.bvh` buffer: the grid, then each node of each octant's copy as one texel.
     pub fn bvh_bytes(&self) -> Vec<u8> {
         let mut bytes = bytemuck::bytes_of(&self.grid.to_gpu()).to_vec();
-        for node in &self.nodes {
+        for node in &self.octant_nodes {
             bytes.extend_from_slice(bytemuck::bytes_of(&self.grid.encode(node)));
         }
         bytes
@@ -244,19 +251,26 @@ impl SceneGpu {
 
     /// The nearest hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.
     pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        intersect::closest_hit(&self.nodes, &self.triangles, ray, tmin, tmax)
+        intersect::closest_hit(self.nodes_for(ray), &self.triangles, ray, tmin, tmax)
+    }
+
+    /// The copy of the BVH a ray traverses: its direction's octant's.
+    pub fn nodes_for(&self, ray: &Ray) -> &[BvhNode] {
+        let n = self.nodes.len();
+        let start = octant(ray.dir) * n;
+        &self.octant_nodes[start..start + n]
     }
 
     /// Whether anything is hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.
     pub fn any_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
-        intersect::any_hit(&self.nodes, &self.triangles, ray, tmin, tmax)
+        intersect::any_hit(self.nodes_for(ray), &self.triangles, ray, tmin, tmax)
     }
 
     /// Whether a shadow ray, a segment between two points of the scene, is blocked: any_hit
     /// over the occluders only, as `bvh.wgsl`'s shadow_hit.
     pub fn shadow_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
         let root = self.occluder_root as usize;
-        intersect::any_hit_from(&self.nodes, root, &self.triangles, ray, tmin, tmax)
+        intersect::any_hit_from(self.nodes_for(ray), root, &self.triangles, ray, tmin, tmax)
     }
 }
 

@@ -5,6 +5,7 @@
 
 pub mod bvh;
 pub mod bvh_grid;
+pub mod bvh_octants;
 pub mod camera;
 pub mod error;
 pub mod file;
