@@ -20,29 +20,8 @@
 #include "lib/nee.wgsl"
 #include "lib/shade_ambient.wgsl"
 #include "lib/shade_direct.wgsl"
+#include "lib/path_pass.wgsl"
 #include "lib/shade_indirect.wgsl"
-
-struct Params {
-    ambient_color: vec3<f32>,
-    radius: f32,
-}
-
-// A pass param: samples per pixel per frame.
-override samples_per_frame: u32 = 1u;
-
-@group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<uniform> camera: Camera;
-@group(0) @binding(2) var<uniform> frame: Frame;
-@group(0) @binding(3) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(5) var lights: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(6) var light_power: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(7) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(8) var l0: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(9) var direct: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(10) var indirect: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(11) var ambient: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(12) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn shade(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
@@ -54,21 +33,14 @@ fn shade(id: vec3<u32>) {
     var sum_ambient = vec3<f32>(0.0);
     for (var k = 0u; k < samples_per_frame; k++) {
         let source = sample_source(id.xy, samples_per_frame, k);
-        let dir = camera_ray_dir(id.xy, sample_2d(source, DIM_PIXEL));
-        let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
-        let ray = Primary(camera.eye, dir, hit.t, hit.u, hit.v, hit.triangle);
+        let ray = path_primary(id.xy, source);
         let lit = shade_direct(ray, source);
         sum_l0 += lit.l0;
         sum_direct += lit.direct;
         sum_indirect += shade_indirect(ray, source);
         sum_ambient += shade_ambient(ray, source, params.ambient_color, params.radius);
     }
-    let pixel = vec2<i32>(id.xy);
-    let scale = 1.0 / f32(samples_per_frame);
-    textureStore(l0, pixel, vec4<f32>(sum_l0 * scale, 1.0));
-    textureStore(direct, pixel, vec4<f32>(sum_direct * scale, 1.0));
-    textureStore(indirect, pixel, vec4<f32>(sum_indirect * scale, 1.0));
-    textureStore(ambient, pixel, vec4<f32>(sum_ambient * scale, 1.0));
+    store_channel_means(id.xy, sum_l0, sum_direct, sum_indirect, sum_ambient);
 }
 
 @compute @workgroup_size(8, 8)

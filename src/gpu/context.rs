@@ -5,13 +5,15 @@ use super::error::GpuError;
 /// Environment variable naming the adapter to use when the caller names none.
 pub const ADAPTER_ENV: &str = "PASSGRAPH_ADAPTER";
 
-/// Optional features used when the adapter has them: per-stage timing, and storage textures
-/// beyond WebGPU's guaranteed formats and accesses (e.g. `read_write` rgba32float).
+/// Optional features used when the adapter has them: per-stage timing, storage textures
+/// beyond WebGPU's guaranteed formats and accesses (e.g. `read_write` rgba32float), and
+/// subgroup operations (shaders/path_reuse.wgsl).
 const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
-    .union(wgpu::Features::BGRA8UNORM_STORAGE);
+    .union(wgpu::Features::BGRA8UNORM_STORAGE)
+    .union(wgpu::Features::SUBGROUP);
 
 /// Cheap to clone: wgpu's handles are shared, so a viewer can rebuild sessions on one device.
 #[derive(Clone)]

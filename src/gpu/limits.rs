@@ -123,6 +123,15 @@ pub fn check_limits(
                 ));
             }
         }
+        if pass.needs_subgroups && !features.contains(wgpu::Features::SUBGROUP) {
+            return Err(over(
+                what,
+                format!(
+                    "{} uses subgroup operations, which the device passgraph runs on does not offer (wgpu feature SUBGROUP); use a graph without this pass (e.g. graphs/pathtracer-fast.ron instead of graphs/pathtracer-reuse.ron)",
+                    pass.shader.path.display()
+                ),
+            ));
+        }
         if enables_f16(&pass.shader.code) && !features.contains(wgpu::Features::SHADER_F16) {
             return Err(over(
                 what,

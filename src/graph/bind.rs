@@ -231,6 +231,22 @@ pub fn bind_instance(
             ]
         }
         Dispatch::Workgroups(x, y, z) => [x, y, z],
+        Dispatch::PerTile(tw, th) => {
+            let invocations = shader.workgroup_size.iter().product::<u32>();
+            if tw == 0 || th == 0 || u64::from(invocations) != u64::from(tw) * u64::from(th) {
+                return Err(GraphError::Dispatch {
+                    graph: graph_file.to_path_buf(),
+                    pass: instance.name.clone(),
+                    shader: pass.shader.path.clone(),
+                    reason: format!(
+                        "dispatch PerTile({tw}, {th}) needs one invocation per pixel of the tile, {} in all, but the shader's workgroup has {invocations} ({:?})",
+                        u64::from(tw) * u64::from(th),
+                        shader.workgroup_size
+                    ),
+                });
+            }
+            [output_size[0].div_ceil(tw), output_size[1].div_ceil(th), 1]
+        }
     };
     Ok(BoundPass {
         bindings,
@@ -281,7 +297,7 @@ fn check_bounds(
             )));
         }
     }
-    if dispatch == Dispatch::PerPixel
+    if matches!(dispatch, Dispatch::PerPixel | Dispatch::PerTile(..))
         && b.kind.access().writes()
         && (width < out_w || height < out_h)
     {

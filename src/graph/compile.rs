@@ -184,6 +184,7 @@ pub fn compile(
                 stage,
                 workgroups: b.workgroups,
                 workgroup_size: pass.interface.workgroup_size,
+                needs_subgroups: pass.interface.needs_subgroups,
                 bindings: b.bindings.clone(),
                 params: b.params.clone(),
                 params_uniform: b.params_uniform.clone(),

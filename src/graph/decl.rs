@@ -34,6 +34,11 @@ pub enum Dispatch {
     PerPixel,
     /// A fixed number of workgroups (x, y, z).
     Workgroups(u32, u32, u32),
+    /// One invocation per output pixel, one workgroup per `(w, h)` tile of the output:
+    /// ceil(size / (w, h)) workgroups of w * h invocations in any shape, the shader mapping
+    /// them onto the tile. For shaders that need a one-dimensional workgroup over a 2D tile
+    /// (subgroup builtins require one: shaders/path_reuse.wgsl).
+    PerTile(u32, u32),
 }
 
 /// `graphs/<name>.ron`: resources, pass instances in program order, and outputs — or, with

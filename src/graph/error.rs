@@ -249,6 +249,14 @@ pub enum GraphError {
         reason: String,
     },
 
+    #[error("{}: pass '{pass}' ({}): {reason}", graph.display(), shader.display())]
+    Dispatch {
+        graph: PathBuf,
+        pass: String,
+        shader: PathBuf,
+        reason: String,
+    },
+
     #[error("{}: pass '{pass}', binding '{binding}' -> resource '{resource}': {reason}", graph.display())]
     OutOfBounds {
         graph: PathBuf,

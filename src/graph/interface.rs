@@ -129,6 +129,8 @@ pub struct ShaderOverride {
 pub struct ShaderInterface {
     pub entry: String,
     pub workgroup_size: [u32; 3],
+    /// Whether the module uses subgroup operations, which not every device offers.
+    pub needs_subgroups: bool,
     /// Bindings the entry point uses, except the params block, sorted by (group, binding).
     pub bindings: Vec<ShaderBinding>,
     /// The uniform variable named `params`, if the entry point uses one.

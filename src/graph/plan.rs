@@ -104,6 +104,8 @@ pub struct PlannedPass {
     pub workgroups: [u32; 3],
     /// The entry point's `@workgroup_size`.
     pub workgroup_size: [u32; 3],
+    /// Whether the shader uses subgroup operations (wgpu feature SUBGROUP).
+    pub needs_subgroups: bool,
     pub bindings: Vec<PlannedBinding>,
     /// Every param with its final value (defaults overridden by the graph).
     pub params: BTreeMap<String, ParamValue>,

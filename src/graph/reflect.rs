@@ -298,9 +298,19 @@ fn reflect_module(source: &ShaderSource, entry: &str) -> Result<ShaderInterface,
         });
     }
 
+    // What needs subgroups is what fails to validate without them.
+    let without_subgroups = capabilities()
+        - (Capabilities::SUBGROUP
+            | Capabilities::SUBGROUP_BARRIER
+            | Capabilities::SUBGROUP_VERTEX_STAGE);
+    let needs_subgroups = Validator::new(ValidationFlags::all(), without_subgroups)
+        .validate(&module)
+        .is_err();
+
     Ok(ShaderInterface {
         entry: entry.to_string(),
         workgroup_size: entry_point.workgroup_size,
+        needs_subgroups,
         bindings,
         params,
         overrides,

@@ -1,0 +1,43 @@
+// What the two whole-sample passes (shaders/path.wgsl, shaders/path_reuse.wgsl) share: their
+// params, their bindings (the same pass interface, so a graph swaps one for the other), the
+// primary ray of a sample and the write of the frame's channel means. Included after scene,
+// sampler, camera_ray, bvh and primary.
+
+struct Params {
+    ambient_color: vec3<f32>,
+    radius: f32,
+}
+
+// A pass param: samples per pixel per frame.
+override samples_per_frame: u32 = 1u;
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> camera: Camera;
+@group(0) @binding(2) var<uniform> frame: Frame;
+@group(0) @binding(3) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(4) var materials: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(5) var lights: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(6) var light_power: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(7) var bvh: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(8) var l0: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(9) var direct: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(10) var indirect: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(11) var ambient: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(12) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+
+// The jittered primary ray of `pixel` for `source` and its closest hit (as intersect traces it).
+fn path_primary(pixel: vec2<u32>, source: SampleSource) -> Primary {
+    let dir = camera_ray_dir(pixel, sample_2d(source, DIM_PIXEL));
+    let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
+    return Primary(camera.eye, dir, hit.t, hit.u, hit.v, hit.triangle);
+}
+
+// Writes the frame's channels: the sums of its samples_per_frame samples, as means.
+fn store_channel_means(pixel: vec2<u32>, sum_l0: vec3<f32>, sum_direct: vec3<f32>, sum_indirect: vec3<f32>, sum_ambient: vec3<f32>) {
+    let p = vec2<i32>(pixel);
+    let scale = 1.0 / f32(samples_per_frame);
+    textureStore(l0, p, vec4<f32>(sum_l0 * scale, 1.0));
+    textureStore(direct, p, vec4<f32>(sum_direct * scale, 1.0));
+    textureStore(indirect, p, vec4<f32>(sum_indirect * scale, 1.0));
+    textureStore(ambient, p, vec4<f32>(sum_ambient * scale, 1.0));
+}
