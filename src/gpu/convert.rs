@@ -23,6 +23,7 @@ pub fn texture_format(format: TextureFormat) -> wgpu::TextureFormat {
         TextureFormat::Rgba32Uint => W::Rgba32Uint,
         TextureFormat::Rgba32Sint => W::Rgba32Sint,
         TextureFormat::Rgba32Float => W::Rgba32Float,
+        TextureFormat::Depth32Float => W::Depth32Float,
     }
 }
 

@@ -4,7 +4,7 @@
 use super::context::GpuContext;
 use super::error::GpuError;
 use super::error_scope::capture_errors;
-use super::pass::PreparedPass;
+use super::pass::{Pipeline, PreparedPass, RenderDraw};
 use super::provided_data::ProvidedData;
 use super::resources::{GpuResources, write_padded};
 use super::timing::{FrameTimes, StageTimer};
@@ -70,24 +70,50 @@ impl Executor {
                 label: Some("frame"),
             });
             for (s, stage) in self.stages.iter().enumerate() {
-                let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&self.stage_labels[s]),
-                    timestamp_writes: self.timer.as_ref().map(|t| t.pass_writes(s)),
-                });
-                for &KeptPass(p) in stage {
-                    let pass = &self.passes[p];
-                    compute.set_pipeline(&pass.pipeline);
-                    for (group, bind_group) in &pass.bind_groups {
-                        compute.set_bind_group(*group, bind_group, &[]);
+                // One compute pass per run of compute passes, one render pass per raster pass.
+                let mut i = 0;
+                while i < stage.len() {
+                    let first = i == 0;
+                    let KeptPass(p) = stage[i];
+                    if let Pipeline::Render(draw) = &self.passes[p].pipeline {
+                        let last = i + 1 == stage.len();
+                        self.record_draw(&mut encoder, s, p, draw, first, last);
+                        i += 1;
+                        continue;
                     }
-                    let [x, y, z] = pass.workgroups;
-                    if let Some(timer) = &self.timer {
-                        timer.write_pass(&mut compute, p, false);
+                    let run = stage[i..]
+                        .iter()
+                        .take_while(|&&KeptPass(q)| {
+                            matches!(self.passes[q].pipeline, Pipeline::Compute(_))
+                        })
+                        .count();
+                    let last = i + run == stage.len();
+                    let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(&self.stage_labels[s]),
+                        timestamp_writes: self
+                            .timer
+                            .as_ref()
+                            .and_then(|t| t.pass_writes(s, first, last)),
+                    });
+                    for &KeptPass(p) in &stage[i..i + run] {
+                        let pass = &self.passes[p];
+                        let Pipeline::Compute(pipeline) = &pass.pipeline else {
+                            continue;
+                        };
+                        compute.set_pipeline(pipeline);
+                        for (group, bind_group) in &pass.bind_groups {
+                            compute.set_bind_group(*group, bind_group, &[]);
+                        }
+                        let [x, y, z] = pass.workgroups;
+                        if let Some(timer) = &self.timer {
+                            timer.write_pass(&mut compute, p, false);
+                        }
+                        compute.dispatch_workgroups(x, y, z);
+                        if let Some(timer) = &self.timer {
+                            timer.write_pass(&mut compute, p, true);
+                        }
                     }
-                    compute.dispatch_workgroups(x, y, z);
-                    if let Some(timer) = &self.timer {
-                        timer.write_pass(&mut compute, p, true);
-                    }
+                    i += run;
                 }
             }
             if let Some(timer) = &mut self.timer {
@@ -96,6 +122,76 @@ impl Executor {
             ctx.queue().submit([encoder.finish()]);
         })
         .map_err(|message| GpuError::Frame { message })
+    }
+
+    /// Records a raster pass: one render pass over its attachments, the viewport being the
+    /// output (the attachments' size), drawing 3 vertices per triangle.
+    fn record_draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        stage: usize,
+        p: usize,
+        draw: &RenderDraw,
+        first: bool,
+        last: bool,
+    ) {
+        let pass = &self.passes[p];
+        let color: Vec<Option<wgpu::RenderPassColorAttachment>> = draw
+            .color
+            .iter()
+            .map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: if draw.clear {
+                            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                        } else {
+                            wgpu::LoadOp::Load
+                        },
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let depth = draw
+            .depth
+            .as_ref()
+            .map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations {
+                    load: if draw.clear {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            });
+        let mut render = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(&pass.name),
+            color_attachments: &color,
+            depth_stencil_attachment: depth,
+            timestamp_writes: self
+                .timer
+                .as_ref()
+                .and_then(|t| t.render_writes(stage, first, last)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        render.set_pipeline(&draw.pipeline);
+        for (group, bind_group) in &pass.bind_groups {
+            render.set_bind_group(*group, bind_group, &[]);
+        }
+        if let Some(timer) = &self.timer {
+            timer.write_render_pass(&mut render, p, false);
+        }
+        render.draw(0..draw.vertices, 0..1);
+        if let Some(timer) = &self.timer {
+            timer.write_render_pass(&mut render, p, true);
+        }
     }
 
     /// Blocks until every submitted frame has finished on the GPU (for timing).

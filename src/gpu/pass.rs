@@ -7,6 +7,7 @@ use super::error::GpuError;
 use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::resources::{BoundResource, GpuResources};
+use crate::graph::decl::LoadOp;
 use crate::graph::interface::BindingKind;
 use crate::graph::plan::PlannedPass;
 use std::collections::BTreeMap;
@@ -14,12 +15,27 @@ use wgpu::util::DeviceExt;
 
 pub struct PreparedPass {
     pub name: String,
-    pub pipeline: wgpu::ComputePipeline,
+    pub pipeline: Pipeline,
     /// (group index, bind group); groups the shader does not use are absent.
     pub bind_groups: Vec<(u32, wgpu::BindGroup)>,
     /// The `params` uniform and its length in bytes.
     pub params: Option<(wgpu::Buffer, u64)>,
     pub workgroups: [u32; 3],
+}
+
+/// A compute pass's pipeline, or a raster pass's with what its render pass needs.
+pub enum Pipeline {
+    Compute(wgpu::ComputePipeline),
+    Render(RenderDraw),
+}
+
+pub struct RenderDraw {
+    pub pipeline: wgpu::RenderPipeline,
+    pub color: Vec<wgpu::TextureView>,
+    pub depth: Option<wgpu::TextureView>,
+    /// Whether the attachments are cleared (else loaded).
+    pub clear: bool,
+    pub vertices: u32,
 }
 
 /// What fills a binding slot: the planned binding at this index, or the params block.
@@ -60,13 +76,48 @@ impl PreparedPass {
                 })?;
             constants.push((name.as_str(), *value));
         }
+        let draw = match &pass.raster {
+            Some(raster) => {
+                let count = provided.overrides.get(&raster.triangles).ok_or_else(|| {
+                    GpuError::MissingOverride {
+                        pass: pass.name.clone(),
+                        name: raster.triangles.clone(),
+                    }
+                })?;
+                // The compiler checked the override is a u32; 3 vertices per triangle.
+                let vertices = (*count as u64).saturating_mul(3).min(u64::from(u32::MAX)) as u32;
+                Some((raster, vertices))
+            }
+            None => None,
+        };
         let created = capture_errors(ctx.device(), || {
             let bound: Vec<BoundResource> = pass
                 .bindings
                 .iter()
                 .map(|b| resources.bind(b))
                 .collect::<Result<_, _>>()?;
-            Ok(create(ctx.device(), pass, &bound, &constants))
+            let targets = match draw {
+                Some((raster, vertices)) => Some(Targets {
+                    color: raster
+                        .color
+                        .iter()
+                        .map(|(_, id)| resources.attachment(*id))
+                        .collect::<Result<_, _>>()?,
+                    color_formats: raster
+                        .color
+                        .iter()
+                        .map(|(_, id)| resources.format(*id))
+                        .collect(),
+                    depth: raster
+                        .depth
+                        .as_ref()
+                        .map(|(_, id)| resources.attachment(*id))
+                        .transpose()?,
+                    vertices,
+                }),
+                None => None,
+            };
+            Ok(create(ctx.device(), pass, &bound, &constants, targets))
         });
         created.unwrap_or_else(|message| {
             Err(GpuError::CreatePass {
@@ -77,12 +128,21 @@ impl PreparedPass {
     }
 }
 
+/// A raster pass's attachments and vertex count.
+struct Targets {
+    color: Vec<wgpu::TextureView>,
+    color_formats: Vec<Option<wgpu::TextureFormat>>,
+    depth: Option<wgpu::TextureView>,
+    vertices: u32,
+}
+
 /// Everything wgpu validates; the caller turns its errors into one naming the pass.
 fn create(
     device: &wgpu::Device,
     pass: &PlannedPass,
     bound: &[BoundResource],
     constants: &[(&str, f64)],
+    targets: Option<Targets>,
 ) -> PreparedPass {
     let label = Some(pass.name.as_str());
     let params = pass.params_uniform.as_ref().map(|p| {
@@ -118,7 +178,7 @@ fn create(
                 .iter()
                 .map(|(binding, _, ty)| wgpu::BindGroupLayoutEntry {
                     binding: *binding,
-                    visibility: wgpu::ShaderStages::COMPUTE,
+                    visibility: visibility(pass, ty),
                     ty: *ty,
                     count: None,
                 })
@@ -144,17 +204,72 @@ fn create(
         label,
         source: wgpu::ShaderSource::Wgsl(pass.shader.code.as_str().into()),
     });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label,
-        layout: Some(&pipeline_layout),
-        module: &module,
-        entry_point: Some(&pass.entry),
-        compilation_options: wgpu::PipelineCompilationOptions {
-            constants,
-            ..Default::default()
-        },
-        cache: None,
-    });
+    let pipeline = match (&pass.raster, targets) {
+        (Some(raster), Some(targets)) => {
+            let color_targets: Vec<Option<wgpu::ColorTargetState>> = targets
+                .color_formats
+                .iter()
+                .map(|format| {
+                    format.map(|format| wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })
+                })
+                .collect();
+            let options = || wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            };
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label,
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(&raster.vertex),
+                    compilation_options: options(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: targets.depth.as_ref().map(|_| wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(&raster.fragment),
+                    compilation_options: options(),
+                    targets: &color_targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            Pipeline::Render(RenderDraw {
+                pipeline,
+                color: targets.color,
+                depth: targets.depth,
+                clear: raster.load == LoadOp::Clear,
+                vertices: targets.vertices,
+            })
+        }
+        _ => Pipeline::Compute(
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label,
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(&pass.entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
+                cache: None,
+            }),
+        ),
+    };
 
     let mut bind_groups = Vec::with_capacity(layouts.len());
     for (group, layout) in &layouts {
@@ -182,6 +297,29 @@ fn create(
         bind_groups,
         params,
         workgroups: pass.workgroups,
+    }
+}
+
+/// Compute passes bind for the compute stage; raster passes for both of theirs, except what
+/// is written (a vertex shader may not write storage).
+fn visibility(pass: &PlannedPass, ty: &wgpu::BindingType) -> wgpu::ShaderStages {
+    if pass.raster.is_none() {
+        return wgpu::ShaderStages::COMPUTE;
+    }
+    let writes = match ty {
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            ..
+        } => !read_only,
+        wgpu::BindingType::StorageTexture { access, .. } => {
+            *access != wgpu::StorageTextureAccess::ReadOnly
+        }
+        _ => false,
+    };
+    if writes {
+        wgpu::ShaderStages::FRAGMENT
+    } else {
+        wgpu::ShaderStages::VERTEX_FRAGMENT
     }
 }
 

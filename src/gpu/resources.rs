@@ -162,6 +162,33 @@ impl GpuResources {
         })
     }
 
+    /// The wgpu format of a graph texture (`None` for anything else).
+    pub fn format(&self, id: ResourceId) -> Option<wgpu::TextureFormat> {
+        match self.resources[id].physical.map(|p| &self.objects[p]) {
+            Some(GpuObject::Texture { format, .. }) => Some(texture_format(*format)),
+            _ => None,
+        }
+    }
+
+    /// A view of a raster pass's attachment (a one-layer texture the graph owns).
+    pub fn attachment(&self, id: ResourceId) -> Result<wgpu::TextureView, GpuError> {
+        let resource = &self.resources[id];
+        let unallocated = || GpuError::Unallocated {
+            name: resource.name.clone(),
+        };
+        match resource.physical.map(|p| &self.objects[p]) {
+            Some(GpuObject::Texture { texture, .. }) => {
+                Ok(texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(&resource.name),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                }))
+            }
+            _ => Err(unallocated()),
+        }
+    }
+
     /// The buffer of a provided uniform; `Ok(None)` when no kept pass binds it, so nothing
     /// needs its bytes.
     pub fn provided_uniform(&self, name: &str) -> Result<Option<&wgpu::Buffer>, GpuError> {
@@ -354,6 +381,9 @@ fn create_object(
                     Usage::StorageRead | Usage::StorageWrite | Usage::StorageReadWrite => {
                         wgpu::TextureUsages::STORAGE_BINDING
                     }
+                    Usage::ColorAttachment | Usage::DepthAttachment => {
+                        wgpu::TextureUsages::RENDER_ATTACHMENT
+                    }
                     Usage::Uniform => wgpu::TextureUsages::empty(),
                 };
             }
@@ -383,7 +413,9 @@ fn create_object(
                     Usage::StorageRead | Usage::StorageWrite | Usage::StorageReadWrite => {
                         wgpu::BufferUsages::STORAGE
                     }
-                    Usage::Sampled => wgpu::BufferUsages::empty(),
+                    Usage::Sampled | Usage::ColorAttachment | Usage::DepthAttachment => {
+                        wgpu::BufferUsages::empty()
+                    }
                 };
             }
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {

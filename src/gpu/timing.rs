@@ -68,22 +68,64 @@ impl StageTimer {
         .ok()
     }
 
-    /// The timestamp writes for stage `stage`'s compute pass.
-    pub fn pass_writes(&self, stage: usize) -> wgpu::ComputePassTimestampWrites<'_> {
-        let start = stage as u32 * 2;
-        wgpu::ComputePassTimestampWrites {
+    /// The timestamp writes for one compute pass of stage `stage`: a stage is one compute pass
+    /// unless it holds raster passes, which split it; its first such pass writes the stage's
+    /// start and its last the stage's end.
+    pub fn pass_writes(
+        &self,
+        stage: usize,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let (begin, end) = self.stage_indices(stage, first, last)?;
+        Some(wgpu::ComputePassTimestampWrites {
             query_set: &self.queries,
-            beginning_of_pass_write_index: Some(start),
-            end_of_pass_write_index: Some(start + 1),
-        }
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
+        })
+    }
+
+    /// Like `pass_writes`, for a raster pass's render pass.
+    pub fn render_writes(
+        &self,
+        stage: usize,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let (begin, end) = self.stage_indices(stage, first, last)?;
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
+        })
+    }
+
+    fn stage_indices(
+        &self,
+        stage: usize,
+        first: bool,
+        last: bool,
+    ) -> Option<(Option<u32>, Option<u32>)> {
+        let start = stage as u32 * 2;
+        (first || last).then_some((first.then_some(start), last.then_some(start + 1)))
     }
 
     /// Writes pass `pass`'s start (`end == false`) or end timestamp inside a compute pass.
     pub fn write_pass(&self, compute: &mut wgpu::ComputePass<'_>, pass: usize, end: bool) {
-        if (pass as u32) < self.passes {
-            let index = 2 * (self.stages + pass as u32) + u32::from(end);
+        if let Some(index) = self.pass_index(pass, end) {
             compute.write_timestamp(&self.queries, index);
         }
+    }
+
+    /// Writes pass `pass`'s start or end timestamp inside a render pass.
+    pub fn write_render_pass(&self, render: &mut wgpu::RenderPass<'_>, pass: usize, end: bool) {
+        if let Some(index) = self.pass_index(pass, end) {
+            render.write_timestamp(&self.queries, index);
+        }
+    }
+
+    fn pass_index(&self, pass: usize, end: bool) -> Option<u32> {
+        ((pass as u32) < self.passes).then(|| 2 * (self.stages + pass as u32) + u32::from(end))
     }
 
     /// Records the resolve at the end of a frame's commands.

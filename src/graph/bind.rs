@@ -1,14 +1,14 @@
 //! Checking one pass instance against its shader: params, bindings, resource compatibility.
 
 use super::compose::PassOrigin;
-use super::decl::{Dispatch, PassInstanceDecl};
+use super::decl::{Dispatch, LoadOp, PassInstanceDecl, RasterDecl};
 use super::error::GraphError;
 use super::format::{SampleKind, TextureDim, TextureFormat};
 use super::id::ResourceId;
 use super::interface::{Access, BindingKind, ShaderBinding};
 use super::load::LoadedPass;
 use super::param::ParamValue;
-use super::plan::{ParamsUniform, PlannedBinding, PlannedResource, ResourceKind};
+use super::plan::{ParamsUniform, PlannedBinding, PlannedRaster, PlannedResource, ResourceKind};
 use super::provided::{ProvidedKind, ProvidedSet};
 use super::schedule::Usage;
 use std::collections::BTreeMap;
@@ -27,6 +27,7 @@ pub struct BoundPass {
     /// One entry per resource, accesses merged over its bindings.
     pub uses: Vec<(ResourceId, Access)>,
     pub usages: Vec<(ResourceId, Usage)>,
+    pub raster: Option<PlannedRaster>,
 }
 
 /// Checks that a pass file's params match its shader: every `params` field and every
@@ -104,6 +105,9 @@ pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<()
             }
             _ => {}
         }
+    }
+    if let Some(raster) = &pass.decl.raster {
+        check_raster_count(pass, raster, provided)?;
     }
     let field_names: Vec<&str> = pass
         .interface
@@ -183,11 +187,24 @@ pub fn bind_instance(
             resource: id,
         });
     }
-    if let Some(extra) = instance
-        .bind
-        .keys()
-        .find(|k| !shader.bindings.iter().any(|b| &b.name == *k))
-    {
+    let raster = match &pass.decl.raster {
+        Some(r) => Some(bind_attachments(
+            graph_file,
+            instance,
+            pass,
+            r,
+            resources,
+            output_size,
+        )?),
+        None => None,
+    };
+    let attachments: Vec<&(String, ResourceId)> = raster
+        .iter()
+        .flat_map(|r| r.color.iter().chain(&r.depth))
+        .collect();
+    if let Some(extra) = instance.bind.keys().find(|k| {
+        !shader.bindings.iter().any(|b| &b.name == *k) && !attachments.iter().any(|a| &a.0 == *k)
+    }) {
         return Err(GraphError::NoSuchBinding {
             graph: graph_file.to_path_buf(),
             pass: instance.name.clone(),
@@ -196,7 +213,40 @@ pub fn bind_instance(
             available: shader.bindings.iter().map(|b| b.name.clone()).collect(),
         });
     }
-    let (uses, usages) = merge_uses(graph_file, &instance.name, &bindings, resources)?;
+    let (mut uses, mut usages) = merge_uses(graph_file, &instance.name, &bindings, resources)?;
+    if let Some(r) = &raster {
+        let access = match r.load {
+            LoadOp::Clear => Access::Write,
+            LoadOp::Load => Access::ReadWrite,
+        };
+        let color = r.color.iter().map(|a| (a, Usage::ColorAttachment));
+        let depth = r.depth.iter().map(|a| (a, Usage::DepthAttachment));
+        for ((name, id), usage) in color.chain(depth) {
+            if let Some(other) = bindings.iter().find(|b| b.resource == *id) {
+                return Err(GraphError::ConflictingUsage {
+                    graph: graph_file.to_path_buf(),
+                    pass: instance.name.clone(),
+                    resource: resources[*id].name.clone(),
+                    bindings: vec![other.name.clone(), name.clone()],
+                });
+            }
+            if uses.iter().any(|(u, _)| u == id) {
+                return Err(GraphError::ConflictingUsage {
+                    graph: graph_file.to_path_buf(),
+                    pass: instance.name.clone(),
+                    resource: resources[*id].name.clone(),
+                    bindings: attachments
+                        .iter()
+                        .filter(|a| a.1 == *id)
+                        .map(|a| a.0.clone())
+                        .collect(),
+                });
+            }
+            uses.push((*id, access));
+            usages.push((*id, usage));
+        }
+        uses.sort();
+    }
     let params_uniform = shader.params.as_ref().map(|block| {
         let mut bytes = vec![0u8; block.size as usize];
         for f in &block.fields {
@@ -222,6 +272,7 @@ pub fn bind_instance(
         .map(|o| o.name.clone())
         .collect();
     let workgroups = match pass.decl.dispatch {
+        _ if raster.is_some() => [1, 1, 1],
         Dispatch::PerPixel => {
             let [wx, wy, _] = shader.workgroup_size;
             [
@@ -257,6 +308,198 @@ pub fn bind_instance(
         workgroups,
         uses,
         usages,
+        raster,
+    })
+}
+
+/// A raster pass's vertex count comes from an override the application provides.
+fn check_raster_count(
+    pass: &LoadedPass,
+    raster: &RasterDecl,
+    provided: &ProvidedSet,
+) -> Result<(), GraphError> {
+    let error = |reason: String| GraphError::Raster {
+        pass_file: pass.file.clone(),
+        reason,
+    };
+    let known = || {
+        provided
+            .overrides()
+            .iter()
+            .filter(|o| o.ty == super::param::ParamType::U32)
+            .map(|o| o.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match provided.get_override(&raster.triangles) {
+        Some(o) if o.ty == super::param::ParamType::U32 => Ok(()),
+        Some(o) => Err(error(format!(
+            "triangles: '{}' is a {} the application provides, not a u32 count (counts: {})",
+            raster.triangles,
+            o.ty,
+            known()
+        ))),
+        None => Err(error(format!(
+            "triangles: '{}' is no count the application provides (counts: {})",
+            raster.triangles,
+            known()
+        ))),
+    }
+}
+
+/// Resolves a raster pass's attachments to graph textures and checks each against the
+/// fragment output it receives.
+fn bind_attachments(
+    graph_file: &Path,
+    instance: &PassInstanceDecl,
+    pass: &LoadedPass,
+    raster: &RasterDecl,
+    resources: &[PlannedResource],
+    [out_w, out_h]: [u32; 2],
+) -> Result<PlannedRaster, GraphError> {
+    let outputs = &pass.interface.outputs;
+    let resolve = |name: &str, kind: &str| -> Result<(ResourceId, &PlannedResource), GraphError> {
+        if pass.interface.bindings.iter().any(|b| b.name == name) {
+            return Err(GraphError::Raster {
+                pass_file: pass.file.clone(),
+                reason: format!(
+                    "'{name}' is both a {kind} and a binding of {}; rename one",
+                    pass.shader.path.display()
+                ),
+            });
+        }
+        let Some(resource_name) = instance.bind.get(name) else {
+            return Err(GraphError::Unbound {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                binding: name.to_string(),
+                kind: kind.to_string(),
+                shader: pass.file.clone(),
+            });
+        };
+        let Some(id) = resources.iter().position(|r| &r.name == resource_name) else {
+            return Err(GraphError::UnknownResource {
+                graph: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                binding: name.to_string(),
+                resource: resource_name.clone(),
+                known: resources.iter().map(|r| r.name.clone()).collect(),
+            });
+        };
+        Ok((ResourceId(id), &resources[id]))
+    };
+    let mismatch =
+        |name: &str, resource: &PlannedResource, reason: String| GraphError::Attachment {
+            graph: graph_file.to_path_buf(),
+            pass: instance.name.clone(),
+            attachment: name.to_string(),
+            resource: resource.name.clone(),
+            reason,
+        };
+    // Every attachment is a one-layer texture of the output's size: the viewport.
+    let texture = |name: &str, resource: &PlannedResource| match resource.kind {
+        ResourceKind::Texture {
+            format,
+            width,
+            height,
+            layers,
+        } => {
+            if layers != 1 {
+                Err(mismatch(
+                    name,
+                    resource,
+                    format!(
+                        "'{}' has {layers} layers; an attachment has one",
+                        resource.name
+                    ),
+                ))
+            } else if (width, height) != (out_w, out_h) {
+                Err(mismatch(
+                    name,
+                    resource,
+                    format!(
+                        "'{}' is {width}x{height} but the pass draws the output, {out_w}x{out_h}; give it size: Output",
+                        resource.name
+                    ),
+                ))
+            } else {
+                Ok(format)
+            }
+        }
+        _ => Err(mismatch(
+            name,
+            resource,
+            format!("'{}' is not a texture the graph owns", resource.name),
+        )),
+    };
+    let mut color = Vec::new();
+    for (location, name) in raster.color.iter().enumerate() {
+        let (id, resource) = resolve(name, "color attachment")?;
+        let format = texture(name, resource)?;
+        let Some(output) = outputs.iter().find(|o| o.location as usize == location) else {
+            return Err(mismatch(
+                name,
+                resource,
+                format!(
+                    "it is colour attachment {location} but the fragment entry point '{}' has no @location({location}) output",
+                    raster.fragment
+                ),
+            ));
+        };
+        if format.is_depth()
+            || format.sample_kind() != output.sample
+            || output.components < format.components()
+        {
+            return Err(mismatch(
+                name,
+                resource,
+                format!(
+                    "'{}' is {format:?} but fragment output {location} is {}",
+                    resource.name, output.ty
+                ),
+            ));
+        }
+        color.push((name.clone(), id));
+    }
+    if let Some(extra) = outputs
+        .iter()
+        .find(|o| o.location as usize >= raster.color.len())
+    {
+        return Err(GraphError::Raster {
+            pass_file: pass.file.clone(),
+            reason: format!(
+                "the fragment entry point '{}' writes @location({}) but `color` lists {} attachment(s); add one for it",
+                raster.fragment,
+                extra.location,
+                raster.color.len()
+            ),
+        });
+    }
+    let depth = match &raster.depth {
+        Some(name) => {
+            let (id, resource) = resolve(name, "depth attachment")?;
+            let format = texture(name, resource)?;
+            if !format.is_depth() {
+                return Err(mismatch(
+                    name,
+                    resource,
+                    format!(
+                        "'{}' is {format:?}; a depth attachment is Depth32Float",
+                        resource.name
+                    ),
+                ));
+            }
+            Some((name.clone(), id))
+        }
+        None => None,
+    };
+    Ok(PlannedRaster {
+        vertex: raster.vertex.clone(),
+        fragment: raster.fragment.clone(),
+        color,
+        depth,
+        load: raster.load,
+        triangles: raster.triangles.clone(),
     })
 }
 
@@ -410,6 +653,9 @@ fn compatible(
                 Ok(())
             }
         }
+        (ResourceKind::Texture { format, .. }, _) if format.is_depth() => Err(format!(
+            "'{name}' is {format:?}, which a raster pass uses as its depth attachment only; it cannot be bound to {kind}"
+        )),
         (
             ResourceKind::Texture { format, layers, .. },
             BindingKind::StorageTexture {

@@ -191,6 +191,7 @@ pub fn compile(
                 overrides: b.overrides.clone(),
                 provided_overrides: b.provided_overrides.clone(),
                 uses: b.uses.clone(),
+                raster: b.raster.clone(),
             }
         })
         .collect();

@@ -20,6 +20,42 @@ pub struct PassDecl {
     pub dispatch: Dispatch,
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamValue>,
+    /// A raster pass: vertex and fragment entry points drawing into attachments (then
+    /// `entry` and `dispatch` are unused).
+    #[serde(default, deserialize_with = "plain_option")]
+    pub raster: Option<RasterDecl>,
+}
+
+/// The draw of a raster pass: its entry points, attachments and vertex count. Attachments are
+/// shader-side names like bindings: the graph binds each to a texture in the instance's `bind`.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename = "Raster", deny_unknown_fields)]
+pub struct RasterDecl {
+    pub vertex: String,
+    pub fragment: String,
+    /// Colour attachments: attachment `i` receives the fragment output at `@location(i)`.
+    #[serde(default)]
+    pub color: Vec<String>,
+    /// A `Depth32Float` attachment, tested `Less` and written.
+    #[serde(default, deserialize_with = "plain_option")]
+    pub depth: Option<String>,
+    /// What the attachments hold when the pass begins.
+    #[serde(default)]
+    pub load: LoadOp,
+    /// The pipeline-overridable constant the application provides whose value is the number
+    /// of triangles to draw (3 vertices each, no vertex buffers: the vertex shader reads its
+    /// triangle `vertex_index / 3` from a provided resource).
+    pub triangles: String,
+}
+
+/// How a raster pass begins with its attachments.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum LoadOp {
+    /// Colours to zero, depth to 1 (the far plane).
+    #[default]
+    Clear,
+    /// Keep what the attachments hold (they are then read as well as written).
+    Load,
 }
 
 fn default_entry() -> String {

@@ -139,6 +139,18 @@ pub enum GraphError {
         available: Vec<String>,
     },
 
+    #[error("{}: pass '{pass}': attachment '{attachment}' -> resource '{resource}': {reason}", graph.display())]
+    Attachment {
+        graph: PathBuf,
+        pass: String,
+        attachment: String,
+        resource: String,
+        reason: String,
+    },
+
+    #[error("{}: raster pass: {reason}", pass_file.display())]
+    Raster { pass_file: PathBuf, reason: String },
+
     #[error("{}: pass '{pass}', binding '{binding}' -> resource '{resource}': {reason}", graph.display())]
     BindingMismatch {
         graph: PathBuf,

@@ -24,6 +24,8 @@ pub enum TextureFormat {
     Rgba32Uint,
     Rgba32Sint,
     Rgba32Float,
+    /// A depth buffer: only a raster pass's depth attachment, never a shader binding.
+    Depth32Float,
 }
 
 /// What a sampled-texture binding returns, which the resource's format must agree with.
@@ -39,7 +41,7 @@ impl TextureFormat {
         use TextureFormat::*;
         match self {
             Rgba8Unorm | Rgba8Snorm | Rgba8Uint | Rgba8Sint | Bgra8Unorm | R32Uint | R32Sint
-            | R32Float => 4,
+            | R32Float | Depth32Float => 4,
             Rgba16Uint | Rgba16Sint | Rgba16Float | Rg32Uint | Rg32Sint | Rg32Float => 8,
             Rgba32Uint | Rgba32Sint | Rgba32Float => 16,
         }
@@ -52,6 +54,20 @@ impl TextureFormat {
             Rgba8Sint | Rgba16Sint | R32Sint | Rg32Sint | Rgba32Sint => SampleKind::Sint,
             _ => SampleKind::Float,
         }
+    }
+
+    /// Channels per texel, what a fragment output must at least have to fill it.
+    pub fn components(self) -> u32 {
+        use TextureFormat::*;
+        match self {
+            R32Uint | R32Sint | R32Float | Depth32Float => 1,
+            Rg32Uint | Rg32Sint | Rg32Float => 2,
+            _ => 4,
+        }
+    }
+
+    pub fn is_depth(self) -> bool {
+        self == TextureFormat::Depth32Float
     }
 
     /// The WGSL spelling, used in messages so users see what to write in the shader.
@@ -75,6 +91,7 @@ impl TextureFormat {
             Rgba32Uint => "rgba32uint",
             Rgba32Sint => "rgba32sint",
             Rgba32Float => "rgba32float",
+            Depth32Float => "depth32float",
         }
     }
 }

@@ -136,4 +136,16 @@ pub struct ShaderInterface {
     /// The uniform variable named `params`, if the entry point uses one.
     pub params: Option<ParamBlock>,
     pub overrides: Vec<ShaderOverride>,
+    /// A raster pass's fragment outputs by location; empty for a compute pass.
+    pub outputs: Vec<FragmentOutput>,
+}
+
+/// One `@location(n)` output of a fragment entry point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FragmentOutput {
+    pub location: u32,
+    pub sample: SampleKind,
+    pub components: u32,
+    /// The WGSL type, for messages (`vec4<u32>`).
+    pub ty: String,
 }

@@ -4,7 +4,7 @@ use super::compose::{Flattened, IncludeTarget, Origins, PassOrigin, flatten};
 use super::decl::{GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
-use super::reflect::reflect;
+use super::reflect::{reflect, reflect_raster};
 use super::shader_source::ShaderSource;
 use serde::de::DeserializeOwned;
 use std::collections::BTreeMap;
@@ -75,7 +75,10 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
         });
     }
     let shader = ShaderSource::load(&shader_path, &shader_root)?;
-    let interface = reflect(&shader, &decl.entry)?;
+    let interface = match &decl.raster {
+        Some(raster) => reflect_raster(&shader, &raster.vertex, &raster.fragment)?,
+        None => reflect(&shader, &decl.entry)?,
+    };
     Ok(LoadedPass {
         file: file.to_path_buf(),
         decl,

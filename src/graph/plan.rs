@@ -1,6 +1,7 @@
 //! The compiled graph: what the GPU executor records and what graph tests assert on.
 
 use super::compose::PassOrigin;
+use super::decl::LoadOp;
 use super::format::TextureFormat;
 use super::id::{KeptPass, ResourceId};
 use super::interface::{Access, BindingKind};
@@ -116,6 +117,21 @@ pub struct PlannedPass {
     pub provided_overrides: Vec<String>,
     /// Each resource touched, with the union of its bindings' accesses.
     pub uses: Vec<(ResourceId, Access)>,
+    /// For a raster pass: its draw (then `entry`, `workgroups` and `workgroup_size` are unused).
+    pub raster: Option<PlannedRaster>,
+}
+
+/// A raster pass's draw: entry points, attachments bound to graph textures, vertex count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedRaster {
+    pub vertex: String,
+    pub fragment: String,
+    /// Attachment `i` takes fragment output `@location(i)`: (shader-side name, resource).
+    pub color: Vec<(String, ResourceId)>,
+    pub depth: Option<(String, ResourceId)>,
+    pub load: LoadOp,
+    /// The provided override whose value is the triangle count (3 vertices each).
+    pub triangles: String,
 }
 
 #[derive(Clone, Debug, PartialEq)]

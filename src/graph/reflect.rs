@@ -4,7 +4,8 @@
 use super::error::GraphError;
 use super::format::{SampleKind, TextureDim, TextureFormat};
 use super::interface::{
-    Access, BindingKind, ParamBlock, ParamField, ShaderBinding, ShaderInterface, ShaderOverride,
+    Access, BindingKind, FragmentOutput, ParamBlock, ParamField, ShaderBinding, ShaderInterface,
+    ShaderOverride,
 };
 use super::param::ParamType;
 use super::shader_source::ShaderSource;
@@ -72,6 +73,29 @@ fn capabilities() -> Capabilities {
 /// Parses and validates the joined source, finds the compute entry point `entry`, and returns
 /// its interface.
 pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, GraphError> {
+    reflect_entries(source, &[(ShaderStage::Compute, entry)])
+}
+
+/// A raster pass's interface: the bindings its vertex and fragment entry points use (the
+/// union), and the fragment outputs.
+pub fn reflect_raster(
+    source: &ShaderSource,
+    vertex: &str,
+    fragment: &str,
+) -> Result<ShaderInterface, GraphError> {
+    reflect_entries(
+        source,
+        &[
+            (ShaderStage::Vertex, vertex),
+            (ShaderStage::Fragment, fragment),
+        ],
+    )
+}
+
+fn reflect_entries(
+    source: &ShaderSource,
+    entries: &[(ShaderStage, &str)],
+) -> Result<ShaderInterface, GraphError> {
     check_expression_size(source)?;
     // naga's parser, lowering and validator recurse once per operand of a left-nested
     // expression chain; the stack they need grows with it, and a main thread's 8 MiB overflow
@@ -81,7 +105,7 @@ pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, Gr
         std::thread::Builder::new()
             .name("naga".into())
             .stack_size(NAGA_STACK_BYTES)
-            .spawn_scoped(scope, || reflect_module(source, entry))
+            .spawn_scoped(scope, || reflect_module(source, entries))
             .map(|thread| thread.join())
     });
     match reflected {
@@ -94,7 +118,7 @@ pub fn reflect(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, Gr
             message: "the WGSL front end failed on this shader (internal error)".into(),
         }),
         // No thread could be started: parse here.
-        Err(_) => reflect_module(source, entry),
+        Err(_) => reflect_module(source, entries),
     }
 }
 
@@ -186,7 +210,10 @@ fn check_expression_size(source: &ShaderSource) -> Result<(), GraphError> {
     Ok(())
 }
 
-fn reflect_module(source: &ShaderSource, entry: &str) -> Result<ShaderInterface, GraphError> {
+fn reflect_module(
+    source: &ShaderSource,
+    entries: &[(ShaderStage, &str)],
+) -> Result<ShaderInterface, GraphError> {
     let module =
         naga::front::wgsl::parse_str(&source.code).map_err(|error| parse_error(source, &error))?;
     let info = Validator::new(ValidationFlags::all(), capabilities())
@@ -199,42 +226,66 @@ fn reflect_module(source: &ShaderSource, entry: &str) -> Result<ShaderInterface,
         reason,
     };
 
-    let Some((index, entry_point)) = module
-        .entry_points
+    let mut found = Vec::new();
+    for &(stage, entry) in entries {
+        let Some((index, entry_point)) = module
+            .entry_points
+            .iter()
+            .enumerate()
+            .find(|(_, ep)| ep.stage == stage && ep.name == entry)
+        else {
+            return Err(GraphError::NoEntryPoint {
+                shader: source.path.clone(),
+                entry: entry.to_string(),
+                available: module
+                    .entry_points
+                    .iter()
+                    .filter(|ep| ep.stage == stage)
+                    .map(|ep| ep.name.clone())
+                    .collect(),
+            });
+        };
+        // The framework computes dispatch sizes from the workgroup size before any override
+        // is set.
+        if entry_point.workgroup_size_overrides.is_some() {
+            return Err(unsupported(
+                "@workgroup_size",
+                format!(
+                    "entry point '{entry}' sizes its workgroup with an override; \
+                     use constant expressions in @workgroup_size"
+                ),
+            ));
+        }
+        found.push((index, entry_point));
+    }
+    let compute = found
         .iter()
-        .enumerate()
-        .find(|(_, ep)| ep.stage == ShaderStage::Compute && ep.name == entry)
-    else {
-        return Err(GraphError::NoEntryPoint {
-            shader: source.path.clone(),
-            entry: entry.to_string(),
-            available: module
-                .entry_points
-                .iter()
-                .filter(|ep| ep.stage == ShaderStage::Compute)
-                .map(|ep| ep.name.clone())
-                .collect(),
-        });
+        .find(|(_, ep)| ep.stage == ShaderStage::Compute)
+        .map(|(_, ep)| ep);
+    let outputs = match found
+        .iter()
+        .find(|(_, ep)| ep.stage == ShaderStage::Fragment)
+    {
+        Some((_, ep)) => fragment_outputs(&module, ep)
+            .map_err(|reason| unsupported(&format!("{} (fragment output)", ep.name), reason))?,
+        None => Vec::new(),
     };
 
-    // The framework computes dispatch sizes from the workgroup size before any override is set.
-    if entry_point.workgroup_size_overrides.is_some() {
-        return Err(unsupported(
-            "@workgroup_size",
-            format!(
-                "entry point '{entry}' sizes its workgroup with an override; \
-                 use constant expressions in @workgroup_size"
-            ),
-        ));
+    let mut layers: HashMap<Handle<naga::GlobalVariable>, u32> = HashMap::new();
+    for (_, ep) in &found {
+        for (global, layer) in constant_layers(&module, &ep.function) {
+            let slot = layers.entry(global).or_insert(layer);
+            *slot = (*slot).max(layer);
+        }
     }
-
-    let uses = info.get_entry_point(index);
-    let layers = constant_layers(&module, &entry_point.function);
     let mut bindings = Vec::new();
     let mut params = None;
     for (handle, var) in module.global_variables.iter() {
-        // A file may hold several entry points; only what this one touches is its interface.
-        if uses[handle].is_empty() || !is_resource(var.space) {
+        // A file may hold several entry points; only what these touch is their interface.
+        let used = found
+            .iter()
+            .any(|&(index, _)| !info.get_entry_point(index)[handle].is_empty());
+        if !used || !is_resource(var.space) {
             continue;
         }
         let name = var.name.clone().unwrap_or_else(|| format!("{handle:?}"));
@@ -308,13 +359,72 @@ fn reflect_module(source: &ShaderSource, entry: &str) -> Result<ShaderInterface,
         .is_err();
 
     Ok(ShaderInterface {
-        entry: entry.to_string(),
-        workgroup_size: entry_point.workgroup_size,
+        entry: entries
+            .first()
+            .map_or(String::new(), |(_, e)| e.to_string()),
+        workgroup_size: compute.map_or([1, 1, 1], |ep| ep.workgroup_size),
         needs_subgroups,
         bindings,
         params,
         overrides,
+        outputs,
     })
+}
+
+/// The `@location` outputs of a fragment entry point (a value or a struct of them), sorted.
+fn fragment_outputs(
+    module: &Module,
+    entry: &naga::EntryPoint,
+) -> Result<Vec<FragmentOutput>, String> {
+    let Some(result) = &entry.function.result else {
+        return Ok(Vec::new());
+    };
+    let mut members = Vec::new();
+    match (&result.binding, &module.types[result.ty].inner) {
+        (Some(binding), _) => members.push((binding.clone(), result.ty)),
+        (
+            None,
+            TypeInner::Struct {
+                members: fields, ..
+            },
+        ) => {
+            for f in fields {
+                if let Some(binding) = &f.binding {
+                    members.push((binding.clone(), f.ty));
+                }
+            }
+        }
+        (None, _) => {}
+    }
+    let mut outputs = Vec::new();
+    for (binding, ty) in members {
+        let naga::Binding::Location { location, .. } = binding else {
+            continue;
+        };
+        let (scalar, components) = match module.types[ty].inner {
+            TypeInner::Scalar(scalar) => (scalar, 1),
+            TypeInner::Vector { size, scalar } => (scalar, size as u32),
+            _ => {
+                return Err(format!(
+                    "@location({location}) has type {}; use a scalar or vector",
+                    module.to_ctx().type_to_string(ty)
+                ));
+            }
+        };
+        let sample = match scalar.kind {
+            ScalarKind::Uint => SampleKind::Uint,
+            ScalarKind::Sint => SampleKind::Sint,
+            _ => SampleKind::Float,
+        };
+        outputs.push(FragmentOutput {
+            location,
+            sample,
+            components,
+            ty: module.to_ctx().type_to_string(ty),
+        });
+    }
+    outputs.sort_by_key(|o| o.location);
+    Ok(outputs)
 }
 
 /// The highest constant layer index each global texture is loaded or stored with, in `entry`

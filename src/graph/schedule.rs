@@ -18,6 +18,9 @@ pub enum Usage {
     StorageRead,
     StorageWrite,
     StorageReadWrite,
+    /// A raster pass's colour attachment (written; also read when the pass loads it).
+    ColorAttachment,
+    DepthAttachment,
 }
 
 impl Usage {
@@ -37,7 +40,13 @@ impl Usage {
     }
 
     pub fn writes(self) -> bool {
-        matches!(self, Usage::StorageWrite | Usage::StorageReadWrite)
+        matches!(
+            self,
+            Usage::StorageWrite
+                | Usage::StorageReadWrite
+                | Usage::ColorAttachment
+                | Usage::DepthAttachment
+        )
     }
 }
 
@@ -49,6 +58,8 @@ impl fmt::Display for Usage {
             Usage::StorageRead => "storage read",
             Usage::StorageWrite => "storage write",
             Usage::StorageReadWrite => "storage read_write",
+            Usage::ColorAttachment => "color attachment",
+            Usage::DepthAttachment => "depth attachment",
         })
     }
 }
