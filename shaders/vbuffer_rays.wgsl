@@ -1,0 +1,58 @@
+// Visibility buffer to rays: turns visibility.wgsl's vbuffer into the ray texture exactly as
+// intersect writes it (lib/ray_texture.wgsl), so the lighting passes run unchanged. The ray is
+// the frame's jittered camera ray (lib/frame_jitter.wgsl); t, u, v come from the same watertight
+// test intersect's traversal applies (bvh_intersect_triangle) against the drawn triangle alone,
+// so they are intersect's wherever both see that triangle. Where the test disagrees with the
+// rasteriser (a pixel whose ray grazes the drawn triangle's edge) or nothing was drawn, the ray
+// is traced through the BVH as intersect traces it.
+#include "lib/scene.wgsl"
+#include "lib/rng.wgsl"
+#include "lib/sampler.wgsl"
+#include "lib/camera_ray.wgsl"
+#include "lib/frame_jitter.wgsl"
+#include "lib/bvh.wgsl"
+#include "lib/ray_count.wgsl"
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> frame: Frame;
+@group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(4) var vbuffer: texture_2d<u32>;
+@group(0) @binding(5) var rays: texture_storage_2d_array<rgba32float, write>;
+@group(0) @binding(6) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+
+fn convert(id: vec3<u32>) {
+    if id.x >= frame.width || id.y >= frame.height {
+        return;
+    }
+    let pixel = vec2<i32>(id.xy);
+    let dir = camera_ray_dir(id.xy, frame_jitter());
+    let drawn = textureLoad(vbuffer, pixel, 0).x;
+    var hit = Hit(3.0e38, 0.0, 0.0, BVH_NO_HIT);
+    var found = false;
+    if drawn != 0u && drawn <= scene_triangle_count {
+        let k = drawn - 1u;
+        let p = scene_triangle_vertices(triangles, k);
+        let h = bvh_intersect_triangle(bvh_prepare_ray(camera.eye, dir), p[0], p[1], p[2], 0.0, 3.0e38);
+        if h.hit {
+            hit = Hit(h.t, h.u, h.v, k);
+            found = true;
+            bvh_rays_traced += 1u;
+        }
+    }
+    if !found {
+        hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
+    }
+    textureStore(rays, pixel, 0, vec4<f32>(camera.eye, 0.0));
+    textureStore(rays, pixel, 1, vec4<f32>(dir, 0.0));
+    textureStore(rays, pixel, 2, vec4<f32>(hit.t, hit.u, hit.v, bitcast<f32>(hit.triangle)));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+) {
+    convert(id);
+    count_rays(local_index);
+}
