@@ -7,6 +7,10 @@
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
 
+// A pass param: jitter within the pixel (true) or trace its centre (tests comparing with a
+// rasteriser, tests/raster.rs).
+override pixel_jitter: bool = true;
+
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> frame: Frame;
 @group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
@@ -20,7 +24,8 @@ fn shade(id: vec3<u32>) {
     }
     let pixel = vec2<i32>(id.xy);
     let source = sample_source(id.xy, 1u, 0u);
-    let dir = camera_ray_dir(id.xy, sample_2d(source, DIM_PIXEL));
+    let jitter = select(vec2<f32>(0.5), sample_2d(source, DIM_PIXEL), pixel_jitter);
+    let dir = camera_ray_dir(id.xy, jitter);
     let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
     textureStore(rays, pixel, 0, vec4<f32>(camera.eye, 0.0));
     textureStore(rays, pixel, 1, vec4<f32>(dir, 0.0));
