@@ -375,3 +375,18 @@ fn texel_views_hold_a_provided_buffer_word_for_word_across_rows() {
         assert_eq!(mismatch, None, "{form}: first differing word");
     }
 }
+
+#[test]
+fn raster_pass_draws_with_depth_test_and_a_compute_pass_reads_it() {
+    let plan = plan("raster.ron", [16, 8]);
+    assert_eq!(plan.stage_names(), [["draw"], ["copy"]]);
+    let err = Executor::new(ctx(), &plan, &ProvidedData::default())
+        .err()
+        .expect("an error");
+    assert!(err.to_string().contains("'scene_triangle_count'"), "{err}");
+    // Two triangles: the nearer, drawn first, must survive the farther one drawn over it.
+    let provided = ProvidedData::default().with_override("scene_triangle_count", 2.0);
+    let mut executor = executor(&plan, &provided);
+    run_frames(&mut executor, 2);
+    assert_all(&f16_channels(&read(&executor, "out")), 0.5, "out");
+}

@@ -622,3 +622,127 @@ fn provided_buffer_bound_to_a_float_texture_names_the_texel_view_forms() {
         ],
     );
 }
+
+const RASTER: &str = "graphs/raster.ron";
+
+#[test]
+fn raster_attachment_format_is_checked_against_the_fragment_output() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"fragment: "fs_main""#,
+        r#"fragment: "fs_uint""#,
+    );
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Attachment { .. }), "{msg}");
+    assert_mentions(
+        &msg,
+        &[
+            "raster.ron",
+            "pass 'draw'",
+            "attachment 'color'",
+            "'drawn' is Rgba16Float but fragment output 0 is vec4<u32>",
+        ],
+    );
+}
+
+#[test]
+fn raster_depth_attachment_must_be_depth32float() {
+    let s = Scratch::new();
+    s.edit(
+        RASTER,
+        r#""depth": Texture(format: Depth32Float)"#,
+        r#""depth": Texture(format: R32Float)"#,
+    );
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Attachment { .. }), "{msg}");
+    assert_mentions(
+        &msg,
+        &[
+            "pass 'draw'",
+            "attachment 'depth'",
+            "R32Float",
+            "Depth32Float",
+        ],
+    );
+}
+
+#[test]
+fn depth_texture_cannot_be_a_shader_binding() {
+    let s = Scratch::new();
+    s.edit(RASTER, r#""src": "drawn""#, r#""src": "depth""#);
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::BindingMismatch { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'copy'", "'src'", "depth attachment only"]);
+}
+
+#[test]
+fn raster_attachment_of_another_size_is_rejected() {
+    let s = Scratch::new();
+    s.edit(
+        RASTER,
+        r#""drawn": Texture(format: Rgba16Float)"#,
+        r#""drawn": Texture(format: Rgba16Float, size: Scaled(0.5))"#,
+    );
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Attachment { .. }), "{msg}");
+    assert_mentions(&msg, &["attachment 'color'", "128x128", "size: Output"]);
+}
+
+#[test]
+fn unbound_raster_attachment_names_it() {
+    let s = Scratch::new();
+    s.edit(RASTER, r#", "depth": "depth""#, "");
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Unbound { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'draw'", "'depth'", "depth attachment"]);
+}
+
+#[test]
+fn raster_triangle_count_must_be_provided() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"triangles: "scene_triangle_count""#,
+        r#"triangles: "scene_triangles""#,
+    );
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Raster { .. }), "{msg}");
+    assert_mentions(
+        &msg,
+        &[
+            "raster_fill.ron",
+            "'scene_triangles'",
+            "scene_triangle_count",
+        ],
+    );
+}
+
+#[test]
+fn raster_entry_points_are_looked_up_by_stage() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"vertex: "vs_main""#,
+        r#"vertex: "fs_main""#,
+    );
+    let (e, msg) = s.error(RASTER);
+    let GraphError::NoEntryPoint { available, .. } = &e else {
+        panic!("{msg}")
+    };
+    assert_eq!(available, &["vs_main"], "{msg}");
+}
+
+#[test]
+fn fragment_output_without_attachment_is_an_error() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"color: ["color"],"#,
+        r#"color: [],"#,
+    );
+    s.edit(RASTER, r#""color": "drawn", "#, "");
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::Raster { .. }), "{msg}");
+    assert_mentions(&msg, &["fs_main", "@location(0)"]);
+}

@@ -22,8 +22,14 @@ pub fn to_dot(plan: &Plan) -> String {
             let pass = &plan.passes[p];
             let _ = writeln!(
                 out,
-                "    {} [shape=box, label={}];",
+                "    {} [shape={}, label={}];",
                 quote(&format!("pass:{}", pass.name)),
+                // Raster passes stand out from compute passes.
+                if pass.raster.is_some() {
+                    "box3d"
+                } else {
+                    "box"
+                },
                 quote(&format!("{}\\n{}", pass.name, pass.origin.file.display()))
             );
         }

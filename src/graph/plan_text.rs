@@ -79,8 +79,15 @@ impl fmt::Display for Plan {
         writeln!(f, "\npasses:")?;
         for p in &self.passes {
             let [x, y, z] = p.workgroups;
+            let work = match &p.raster {
+                Some(r) => format!(
+                    "raster {}/{}, {} triangles",
+                    r.vertex, r.fragment, r.triangles
+                ),
+                None => format!("{x}x{y}x{z} workgroups"),
+            };
             let mut line = format!(
-                "  {} (stage {}, {}, {x}x{y}x{z} workgroups)",
+                "  {} (stage {}, {}, {work})",
                 p.name,
                 p.stage,
                 p.pass_file.display()
@@ -110,6 +117,25 @@ impl fmt::Display for Plan {
                     "      @group({}) @binding({}) {:<12} {:<40} <- {}",
                     b.group, b.binding, b.name, b.kind, self.resources[b.resource].name
                 )?;
+            }
+            if let Some(r) = &p.raster {
+                let load = match r.load {
+                    super::decl::LoadOp::Clear => "clear",
+                    super::decl::LoadOp::Load => "load",
+                };
+                let color = r
+                    .color
+                    .iter()
+                    .enumerate()
+                    .map(|(i, a)| (format!("color {i}"), a));
+                for (what, (name, id)) in color.chain(r.depth.iter().map(|a| ("depth".into(), a))) {
+                    writeln!(
+                        f,
+                        "      {what:<21} {name:<12} {:<40} <- {}",
+                        format!("attachment ({load})"),
+                        self.resources[*id].name
+                    )?;
+                }
             }
         }
 
