@@ -746,3 +746,47 @@ fn fragment_output_without_attachment_is_an_error() {
     assert!(matches!(e, GraphError::Raster { .. }), "{msg}");
     assert_mentions(&msg, &["fs_main", "@location(0)"]);
 }
+
+#[test]
+fn loaded_attachment_is_read_so_it_needs_an_earlier_write() {
+    // `load: Load` reads what the attachment held: a transient texture nobody wrote.
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"depth: "depth","#,
+        r#"depth: "depth", load: Load,"#,
+    );
+    let (e, msg) = s.error(RASTER);
+    assert!(matches!(e, GraphError::ReadBeforeWrite { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'draw'"]);
+}
+
+#[test]
+fn loaded_attachment_of_a_persistent_texture_compiles_as_read_write() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/raster_fill.ron",
+        r#"depth: "depth","#,
+        r#"depth: "depth", load: Load,"#,
+    );
+    s.edit(
+        RASTER,
+        r#""drawn": Texture(format: Rgba16Float)"#,
+        r#""drawn": Texture(format: Rgba16Float, persistent: true)"#,
+    );
+    s.edit(
+        RASTER,
+        r#""depth": Texture(format: Depth32Float)"#,
+        r#""depth": Texture(format: Depth32Float, persistent: true)"#,
+    );
+    let plan = s.compile(RASTER).unwrap_or_else(|e| panic!("{e}"));
+    let draw = plan.pass("draw").unwrap();
+    let drawn = plan.resource_id("drawn").unwrap();
+    assert!(
+        draw.uses
+            .iter()
+            .any(|&(r, a)| r == drawn && a == passgraph::graph::interface::Access::ReadWrite),
+        "{:?}",
+        draw.uses
+    );
+}

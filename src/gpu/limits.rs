@@ -84,6 +84,19 @@ pub fn check_limits(
                 ),
             ));
         }
+        if let Some(raster) = &pass.raster {
+            let max = limits.max_color_attachments;
+            if raster.color.len() > max as usize {
+                return Err(over(
+                    what,
+                    format!(
+                        "draws into {} colour attachments, more than this device's max_color_attachments ({max}); list fewer in `color` in {}",
+                        raster.color.len(),
+                        pass.pass_file.display()
+                    ),
+                ));
+            }
+        }
         let max = limits.max_compute_workgroups_per_dimension;
         if pass.workgroups.iter().any(|&n| n > max) {
             let [a, b, c] = pass.workgroups;

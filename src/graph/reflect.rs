@@ -1375,4 +1375,41 @@ mod tests {
         // pack2x16float is core WGSL but needs SHADER_FLOAT16_IN_FLOAT32 in naga.
         interface("@compute @workgroup_size(1) fn main() { _ = pack2x16float(vec2(1.0)); }");
     }
+
+    #[test]
+    fn raster_entry_points_union_their_bindings_and_list_fragment_outputs() {
+        let code = "@group(0) @binding(0) var<uniform> scale: vec4<f32>;
+             @group(0) @binding(1) var tex: texture_2d<u32>;
+             @group(0) @binding(2) var<storage, read> unused: array<u32>;
+             struct Out { @location(1) id: vec2<u32>, @location(0) colour: vec4<f32>,
+                          @builtin(frag_depth) depth: f32 }
+             @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+                 return scale * f32(i);
+             }
+             @fragment fn fs() -> Out {
+                 return Out(textureLoad(tex, vec2(0, 0), 0).xy, vec4(1.0), 0.5);
+             }
+             @compute @workgroup_size(1) fn main() { _ = unused[0]; }";
+        let source = ShaderSource::from_code("test.wgsl".into(), code.to_string());
+        let interface = reflect_raster(&source, "vs", "fs").unwrap();
+        let names: Vec<_> = interface.bindings.iter().map(|b| b.name.as_str()).collect();
+        assert_eq!(names, ["scale", "tex"]);
+        let outputs: Vec<_> = interface
+            .outputs
+            .iter()
+            .map(|o| (o.location, o.sample, o.components, o.ty.as_str()))
+            .collect();
+        assert_eq!(
+            outputs,
+            [
+                (0, SampleKind::Float, 4, "vec4<f32>"),
+                (1, SampleKind::Uint, 2, "vec2<u32>"),
+            ]
+        );
+        // Entry points are found by stage: a compute entry point is no vertex shader.
+        assert!(matches!(
+            reflect_raster(&source, "main", "fs"),
+            Err(GraphError::NoEntryPoint { .. })
+        ));
+    }
 }
