@@ -143,7 +143,13 @@ fn rasteriser_sees_intersects_triangle_at_pixel_centres() {
         const EDGE: f32 = 1e-3;
         for m in &mismatches {
             for edge in [m.drawn_edge, m.hit_edge].into_iter().flatten() {
-                assert!(edge.abs() < EDGE, "{size}x{size}: not at an edge: {m:?}");
+                assert!(
+                    edge.abs() < EDGE,
+                    "{size}x{size}, pixel {:?}: the rasteriser sees triangle {:#x}, intersect {:#x}, not at an edge ({m:?})",
+                    m.pixel,
+                    m.drawn,
+                    m.hit
+                );
             }
         }
         // And such centres are rare: the box's 32 triangles have edges a few thousand pixels
