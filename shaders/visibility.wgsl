@@ -53,9 +53,13 @@ fn vs_main(@builtin(vertex_index) index: u32) -> Varyings {
     return out;
 }
 
+struct FragmentOut {
+    @location(0) ids: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+}
+
 @fragment
-fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> FragmentOut {
-    _ = front;
+fn fs_main(in: Varyings) -> FragmentOut {
     let pixel = vec2<u32>(in.position.xy);
     let dir = camera_ray_dir(pixel, frame_jitter());
     let p0 = triangle_texel(3u * in.triangle);
@@ -63,20 +67,17 @@ fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> FragmentOut {
     let e2 = triangle_texel(3u * in.triangle + 2u) - p0;
     let n = cross(e1, e2);
     let nn = dot(n, n);
-    // The ray meets the triangle's plane at t; barycentrics of that point.
-    let t = max(dot(p0 - camera.eye, n) / dot(dir, n), 0.0);
+    // The ray meets the triangle's plane at t; barycentrics of that point. A plane seen
+    // edge-on gives no usable t (infinite, NaN, or behind through rounding): such a fragment is
+    // kept behind everything else drawn here.
+    let t_plane = dot(p0 - camera.eye, n) / dot(dir, n);
+    let usable = t_plane > 0.0 && t_plane < 3.0e38;
+    let t = select(0.0, t_plane, usable);
     let q = camera.eye + t * dir - p0;
     let u = dot(cross(q, e2), n) / nn;
     let v = dot(cross(e1, q), n) / nn;
-    // A plane seen edge-on gives no finite t: keep it behind everything else drawn here.
-    let finite = t == t && t < 3.0e38;
     var out: FragmentOut;
     out.ids = vec4<u32>(in.triangle + 1u, bitcast<u32>(u), bitcast<u32>(v), bitcast<u32>(t));
-    out.depth = select(1.0, t / (t + DEPTH_SCALE), finite);
+    out.depth = select(1.0, t / (t + DEPTH_SCALE), usable);
     return out;
-}
-
-struct FragmentOut {
-    @location(0) ids: vec4<u32>,
-    @builtin(frag_depth) depth: f32,
 }
