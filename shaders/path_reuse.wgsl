@@ -1,6 +1,7 @@
 // Path with reuse: the fused path pass (shaders/path.wgsl), whose indirect channel shares each
-// bounce's hit among a small group of neighbouring pixels, the lanes of one subgroup (path reuse, Bekaert, Sbert and
-// Halton 2002). Each pixel of a group traces `bounces` bounces from its primary hit x1 and a
+// bounce's hit among a small group of neighbouring pixels, the lanes of one subgroup (path
+// reuse, Bekaert, Sbert and Halton 2002). Each pixel of a group traces `bounces` bounces from
+// its primary hit x1 and a
 // next-event estimate at each hit x2, as path.wgsl does; then it joins its x1 to every other
 // member's x2 with a visibility ray, and weighs all the group's x2 by the balance heuristic
 // over the members' sampling densities:
