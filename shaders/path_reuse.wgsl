@@ -1,6 +1,7 @@
 // Path with reuse: the fused path pass (shaders/path.wgsl), whose indirect channel shares each
-// bounce's hit among a small group of neighbouring pixels, the lanes of one subgroup (path reuse, Bekaert, Sbert and
-// Halton 2002). Each pixel of a group traces `bounces` bounces from its primary hit x1 and a
+// bounce's hit among a small group of neighbouring pixels, the lanes of one subgroup (path
+// reuse, Bekaert, Sbert and Halton 2002). Each pixel of a group traces `bounces` bounces from
+// its primary hit x1 and a
 // next-event estimate at each hit x2, as path.wgsl does; then it joins its x1 to every other
 // member's x2 with a visibility ray, and weighs all the group's x2 by the balance heuristic
 // over the members' sampling densities:
@@ -20,7 +21,8 @@
 //
 // L(x) toward another member's x1 is the next-event estimate made toward the member that drew
 // x: the same only for a Lambertian x. A scene with a specular lobe (scene_has_specular)
-// shares nothing: each pixel keeps its own bounces, and the estimate is path.wgsl's.
+// shares nothing: each pixel traces as many bounces as its group would have pooled
+// (bounces * reuse_pixels), and the estimate is path.wgsl's.
 //
 // The group exchanges its points through subgroup shuffles, not workgroup memory: on lavapipe
 // a workgroup barrier suspends and resumes every SIMD row of the workgroup, and three of them
@@ -86,7 +88,8 @@ fn main(
     let inside = id.x < frame.width && id.y < frame.height;
     let b = clamp(bounces, 1u, REUSE_MAX_BOUNCES);
     // Only Lambertian bounce hits reflect the same light toward every member.
-    let members = select(1u, min(min(reuse_pixels, REUSE_MAX_PIXELS), lanes), !scene_has_specular);
+    let share = !scene_has_specular;
+    let members = select(1u, min(min(reuse_pixels, REUSE_MAX_PIXELS), lanes), share);
     let member = lane % members;
     let base = lane - member;
     // The group's first lane's pixel, whose sequence the group's bounce directions share.
@@ -113,6 +116,29 @@ fn main(
                 s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
                 wo = -ray.dir;
             }
+        }
+
+        if !share {
+            // Nothing to share: each pixel traces the bounces its group would have pooled, and
+            // the estimate is path.wgsl's (the same samples and arithmetic, in index order).
+            if has_first {
+                let m1 = scene_material(materials, s.material);
+                let n = b * clamp(reuse_pixels, 1u, REUSE_MAX_PIXELS);
+                var own = vec3<f32>(0.0);
+                for (var j = 0u; j < n; j++) {
+                    let bounce = sample_split(source, n, j);
+                    let u = sample_2d(bounce, DIM_BOUNCE);
+                    let d = sample_cosine(s.n, u.x, u.y);
+                    let hit = closest_hit(offset_ray(s.p, s.n), d, 0.0, 3.0e38);
+                    if hit.triangle != NO_HIT {
+                        let s2 = surface_at(scene_triangle(triangles, hit.triangle), hit.u, hit.v, d);
+                        let weight = brdf(m1, s.n, wo, d) * PI;
+                        own += weight * direct_light(s2, -d, bounce, DIM_BOUNCE_SELECT, DIM_BOUNCE_LIGHT);
+                    }
+                }
+                sum_indirect += own / f32(n);
+            }
+            continue;
         }
 
         // This pixel's bounces: sample (index * members + member) * b + j of the group's

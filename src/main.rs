@@ -6,7 +6,7 @@ use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::image::{RgbImage, check_output_path};
-use passgraph::render::session::{RenderSettings, Session, check_render_contract};
+use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -325,6 +325,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
             set: args.set.iter().chain(&variant.set).cloned().collect(),
             adapter: args.adapter.clone(),
             max_frames: u32::MAX,
+            keep: Keep::Outputs,
         };
         eprintln!("bench {label} ...");
         let r =
@@ -456,6 +457,7 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         } else {
             args.frames
         },
+        keep: Keep::Outputs,
     };
     let mut session = Session::for_render(&settings, &args.channel).map_err(|e| e.to_string())?;
     let segments = match &args.camera_path {
@@ -615,6 +617,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 set: a.set,
                 adapter: a.adapter,
                 max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
+                // Any texture the graph computes can be shown.
+                keep: Keep::EveryTexture,
             },
             window_scale: 2,
             script: a.script,

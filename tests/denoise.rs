@@ -146,11 +146,11 @@ fn fade_blends_linearly_and_ends_in_the_raw_sum_exactly() {
 }
 
 #[test]
-fn a_channel_that_is_no_float_output_texture_is_an_error_naming_it() {
+fn a_channel_that_is_no_kept_texture_is_an_error_naming_it() {
     let session = render(&settings("graphs/pathtracer-denoise.ron", 16, 0, &[]), 1);
     for (name, says) in [
         ("nothing", "no resource 'nothing'"),
-        ("rays", "'rays' is rgba32float with 3 layer(s)"),
+        ("rays[3]", "show one of rays[0] to rays[2]"),
         (
             "denoise/atrous_a",
             "'denoise/atrous_a' is not among the graph's outputs",

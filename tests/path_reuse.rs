@@ -217,3 +217,45 @@ fn a_shared_bounce_reaches_only_the_pixels_that_see_it() {
         "only {lit} blocks have indirect light: the scene tests nothing"
     );
 }
+
+#[test]
+fn a_scene_with_a_specular_lobe_shares_nothing_and_traces_the_pooled_bounces_itself() {
+    // The Cornell box with glossy red and green walls: a bounce hit's light toward another
+    // pixel would differ from its light toward the pixel that drew it, so nothing is shared,
+    // and each pixel traces bounces * reuse_pixels bounces as the fused pass does.
+    let dir = tempfile::tempdir().unwrap();
+    let cornell = root().join("scenes/cornell");
+    std::fs::copy(cornell.join("cornell.obj"), dir.path().join("cornell.obj")).unwrap();
+    let mtl = std::fs::read_to_string(cornell.join("cornell.mtl")).unwrap();
+    let glossy = mtl.replace(
+        "Kd 0.570068 0.0430135 0.0443706\nKs 0 0 0",
+        "Kd 0.570068 0.0430135 0.0443706\nKs 0.3 0.3 0.3\nNs 20",
+    );
+    assert_ne!(glossy, mtl, "the red wall's material was not found");
+    std::fs::write(dir.path().join("cornell.mtl"), glossy).unwrap();
+    std::fs::copy(cornell.join("scene.ron"), dir.path().join("scene.ron")).unwrap();
+    let scene = dir.path().join("scene.ron");
+    let reuse = render(
+        &settings(
+            REUSE,
+            &scene,
+            32,
+            4,
+            &["path.reuse_pixels=4", "path.bounces=2"],
+        ),
+        2,
+    );
+    let fused = render(
+        &settings(
+            "graphs/pathtracer-fast.ron",
+            &scene,
+            32,
+            4,
+            &["path.bounces=8", "path.coherent_bounces=false"],
+        ),
+        2,
+    );
+    let (a, b) = (channel(&reuse, "indirect"), channel(&fused, "indirect"));
+    assert!(a.mean()[0] > 0.0, "the indirect channel is black");
+    assert_eq!(a.pixels, b.pixels, "not the fused pass's 8 bounces");
+}

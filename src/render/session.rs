@@ -2,7 +2,7 @@
 
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
-use super::output_texture::{output_texture_format, texture_image};
+use super::output_texture::{output_texture_format, texture_channel, texture_image};
 use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, frame_bytes, path_tracer, provided_data,
 };
@@ -11,7 +11,7 @@ use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
 use crate::graph::error::GraphError;
 use crate::graph::load::{LoadedGraph, load_graph};
-use crate::graph::plan::Plan;
+use crate::graph::plan::{Plan, ResourceKind};
 use crate::graph::set_param::set_param;
 use crate::scene::gpu::GpuCamera;
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
@@ -44,6 +44,22 @@ pub struct RenderSettings {
     pub adapter: Option<String>,
     /// The accumulation stops here (the lab report's 1000); later frames cost nothing.
     pub max_frames: u32,
+    /// Which graph textures keep their content after each frame, to be read back and shown.
+    pub keep: Keep,
+}
+
+/// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
+/// texture is made an output before compiling: never shared with another, and its writer never
+/// culled for it having no reader.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Keep {
+    /// The outputs only (and the texture a `render` channel shows).
+    #[default]
+    Outputs,
+    /// Also these textures.
+    Textures(Vec<String>),
+    /// Every texture a kept pass uses: what a viewer may show.
+    EveryTexture,
 }
 
 impl RenderSettings {
@@ -63,6 +79,7 @@ impl RenderSettings {
             set: Vec::new(),
             adapter: None,
             max_frames: Self::DEFAULT_MAX_FRAMES,
+            keep: Keep::Outputs,
         }
     }
 }
@@ -152,6 +169,25 @@ impl Session {
         let source_files = graph_files(&graph);
         for s in &settings.set {
             set_param(&mut graph, s)?;
+        }
+        let mut keep = match &settings.keep {
+            Keep::Outputs => Vec::new(),
+            Keep::Textures(names) => names.clone(),
+            Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
+        };
+        if let Some(ChannelSelection::Texture(name)) = shown {
+            keep.push(
+                texture_channel(name)
+                    .map_err(RenderError::Other)?
+                    .0
+                    .to_string(),
+            );
+        }
+        for name in keep {
+            // A name the graph lacks stays unkept: showing it then says what the graph has.
+            if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
+                graph.decl.outputs.push(name);
+            }
         }
         let plan = compile(&graph, settings.size, path_tracer())?;
         if let Some(channel) = shown {
@@ -281,8 +317,16 @@ impl Session {
                 Ok(RgbImage::from_result(&result, w, h, planes))
             }
             ChannelSelection::Texture(name) => {
-                let format = output_texture_format(&self.plan, name).map_err(RenderError::Other)?;
-                Ok(texture_image(&self.read_resource(name)?, format, w, h))
+                let (format, layer) =
+                    output_texture_format(&self.plan, name).map_err(RenderError::Other)?;
+                let (texture, _) = texture_channel(name).map_err(RenderError::Other)?;
+                Ok(texture_image(
+                    &self.read_resource(texture)?,
+                    format,
+                    layer,
+                    w,
+                    h,
+                ))
             }
         }
     }
@@ -366,6 +410,15 @@ pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<
         output_texture_format(plan, name).map_err(RenderError::Other)?;
     }
     Ok(())
+}
+
+/// The graph's own textures that kept passes use.
+fn used_textures(plan: &Plan) -> Vec<String> {
+    plan.resources
+        .iter()
+        .filter(|r| r.physical.is_some() && matches!(r.kind, ResourceKind::Texture { .. }))
+        .map(|r| r.name.clone())
+        .collect()
 }
 
 fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {

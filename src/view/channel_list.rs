@@ -1,7 +1,9 @@
-//! The channels a viewer can show for a graph: the accumulation's planes, then each output
-//! texture that can be shown (e.g. a denoiser's `denoised`).
+//! The channels a viewer can show for a graph: the accumulation's planes, then each texture
+//! the graph keeps, one entry per layer (`rays[0]`, `rays[1]`, ...): its outputs (e.g. a
+//! denoiser's `denoised`) and, in a viewer's session (`Keep::EveryTexture`), every texture a
+//! kept pass uses.
 
-use crate::graph::plan::Plan;
+use crate::graph::plan::{Plan, ResourceKind};
 use crate::render::channels::{Channel, ChannelSelection};
 use crate::render::output_texture::output_texture_format;
 
@@ -18,8 +20,24 @@ pub fn channel_list(plan: &Plan) -> Vec<(String, ChannelSelection)> {
     .map(|c| (c.name().to_string(), ChannelSelection::Planes(vec![*c])))
     .collect();
     for r in &plan.resources {
-        if r.output && output_texture_format(plan, &r.name).is_ok() {
-            list.push((r.name.clone(), ChannelSelection::Texture(r.name.clone())));
+        let ResourceKind::Texture { layers, .. } = r.kind else {
+            continue;
+        };
+        for layer in 0..layers {
+            let name = if layers == 1 {
+                r.name.clone()
+            } else {
+                format!("{}[{layer}]", r.name)
+            };
+            if output_texture_format(plan, &name).is_ok() {
+                // The path tracer's channel textures share their names with the planes.
+                let label = if Channel::ALL.iter().any(|c| c.name() == name) {
+                    format!("{name} (texture)")
+                } else {
+                    name.clone()
+                };
+                list.push((label, ChannelSelection::Texture(name)));
+            }
         }
     }
     list
