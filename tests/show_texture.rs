@@ -84,3 +84,22 @@ fn a_viewer_session_lists_every_texture_layer_and_renders_the_same_image() {
         "{offered:?}"
     );
 }
+
+#[test]
+fn every_channel_a_viewer_lists_for_the_raster_graph_can_be_shown() {
+    // Its visibility buffer is a colour attachment (shown like any texture); its depth
+    // attachment is not read back, so it is neither kept nor listed.
+    let shown = RenderSettings {
+        keep: Keep::EveryTexture,
+        ..settings("graphs/pathtracer-raster.ron", CORNELL, 16, 2, &[])
+    };
+    let session = render(&shown, 1);
+    let list = channel_list(session.plan());
+    assert!(list.iter().any(|(name, _)| name == "vbuffer"), "{list:?}");
+    for (name, selection) in list {
+        let image = session
+            .image(&selection)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(image.pixels.len(), 16 * 16, "{name}");
+    }
+}

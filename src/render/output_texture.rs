@@ -60,6 +60,12 @@ pub fn output_texture_format(plan: &Plan, name: &str) -> Result<(TextureFormat, 
             outputs()
         ));
     };
+    if format == TextureFormat::Depth32Float {
+        return Err(format!(
+            "{graph}: '{texture}' is a depth attachment, which is not read back; show a colour texture ({})",
+            outputs()
+        ));
+    }
     if [width, height] != plan.output_size {
         return Err(format!(
             "{graph}: '{texture}' is {width}x{height}; an image is shown at the output size {}x{}",
@@ -116,7 +122,7 @@ pub fn texture_image(
             .chunks_exact(2)
             .map(|b| f32::from(i16::from_le_bytes([b[0], b[1]])))
             .collect(),
-        R32Float | Rg32Float | Rgba32Float => bytemuck::pod_collect_to_vec(bytes),
+        R32Float | Rg32Float | Rgba32Float | Depth32Float => bytemuck::pod_collect_to_vec(bytes),
         R32Uint | Rg32Uint | Rgba32Uint => bytes
             .chunks_exact(4)
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32)

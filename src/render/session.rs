@@ -10,6 +10,7 @@ use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
 use crate::graph::error::GraphError;
+use crate::graph::format::TextureFormat;
 use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::{Plan, ResourceKind};
 use crate::graph::set_param::set_param;
@@ -412,11 +413,14 @@ pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<
     Ok(())
 }
 
-/// The graph's own textures that kept passes use.
+/// The graph's own colour textures that kept passes use (depth attachments are not read back).
 fn used_textures(plan: &Plan) -> Vec<String> {
     plan.resources
         .iter()
-        .filter(|r| r.physical.is_some() && matches!(r.kind, ResourceKind::Texture { .. }))
+        .filter(|r| {
+            r.physical.is_some()
+                && matches!(r.kind, ResourceKind::Texture { format, .. } if format != TextureFormat::Depth32Float)
+        })
         .map(|r| r.name.clone())
         .collect()
 }
