@@ -1,6 +1,7 @@
 //! The graph compiler: pure data, no GPU. RON declarations and shader reflection in,
 //! a `Plan` of stages, barriers and resource allocations out.
 
+mod attachments;
 pub mod bind;
 pub mod compile;
 pub mod compose;
