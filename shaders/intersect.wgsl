@@ -6,6 +6,7 @@
 #include "lib/camera_ray.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
+#include "lib/ray_texture_store.wgsl"
 
 // A pass param: jitter within the pixel (true) or trace its centre (tests comparing with a
 // rasteriser, tests/raster.rs).
@@ -27,9 +28,7 @@ fn shade(id: vec3<u32>) {
     let jitter = select(vec2<f32>(0.5), sample_2d(source, DIM_PIXEL), pixel_jitter);
     let dir = camera_ray_dir(id.xy, jitter);
     let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
-    textureStore(rays, pixel, 0, vec4<f32>(camera.eye, 0.0));
-    textureStore(rays, pixel, 1, vec4<f32>(dir, 0.0));
-    textureStore(rays, pixel, 2, vec4<f32>(hit.t, hit.u, hit.v, bitcast<f32>(hit.triangle)));
+    store_primary(pixel, camera.eye, dir, hit);
 }
 
 @compute @workgroup_size(8, 8)

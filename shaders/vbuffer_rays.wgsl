@@ -12,6 +12,7 @@
 #include "lib/frame_jitter.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
+#include "lib/ray_texture_store.wgsl"
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> frame: Frame;
@@ -43,9 +44,7 @@ fn convert(id: vec3<u32>) {
     if !found {
         hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
     }
-    textureStore(rays, pixel, 0, vec4<f32>(camera.eye, 0.0));
-    textureStore(rays, pixel, 1, vec4<f32>(dir, 0.0));
-    textureStore(rays, pixel, 2, vec4<f32>(hit.t, hit.u, hit.v, bitcast<f32>(hit.triangle)));
+    store_primary(pixel, camera.eye, dir, hit);
 }
 
 @compute @workgroup_size(8, 8)

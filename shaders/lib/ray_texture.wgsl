@@ -1,5 +1,5 @@
-// Reading the primary ray that intersect stored. The including shader declares `rays`
-// (texture_storage_2d_array<rgba32float, read>) and includes primary.wgsl.
+// Reading the primary ray that intersect stored (ray_texture_store.wgsl). The including
+// shader declares `rays` (texture_storage_2d_array<rgba32float, read>) and includes primary.wgsl.
 
 fn load_primary(pixel: vec2<i32>) -> Primary {
     let o = textureLoad(rays, pixel, 0);
