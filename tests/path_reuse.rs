@@ -58,15 +58,20 @@ fn a_tile_that_is_not_one_invocation_per_pixel_is_an_error_naming_the_pass() {
 
 #[test]
 fn a_group_of_one_pixel_renders_the_fused_pass_samples() {
-    // With nothing shared the estimate is path.wgsl's: the same bounces and light samples,
-    // weighted brdf * pi (the cosines cancel up to rounding), summed in index order.
+    // With nothing shared the estimate is path.wgsl's: the same bounces and light samples
+    // (the fast graph's 2), weighted brdf * pi (the cosines cancel up to rounding), summed in
+    // index order.
     let reuse = render(
         &settings(
             REUSE,
             CORNELL,
             32,
             3,
-            &["path.reuse_pixels=1", "path.bounces=3"],
+            &[
+                "path.reuse_pixels=1",
+                "path.bounces=3",
+                "path.light_samples=2",
+            ],
         ),
         2,
     );
