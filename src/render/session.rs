@@ -52,14 +52,13 @@ pub struct RenderSettings {
 /// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
 /// texture is made an output before compiling: never shared with another, and its writer never
 /// culled for it having no reader.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Keep {
     /// The outputs only (and the texture a `render` channel shows).
     #[default]
     Outputs,
-    /// Also these textures.
-    Textures(Vec<String>),
-    /// Every texture a kept pass uses: what a viewer may show.
+    /// Every texture a kept pass uses: what a viewer may show (found by compiling once
+    /// without them).
     EveryTexture,
 }
 
@@ -173,7 +172,6 @@ impl Session {
         }
         let mut keep = match &settings.keep {
             Keep::Outputs => Vec::new(),
-            Keep::Textures(names) => names.clone(),
             Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
         };
         if let Some(ChannelSelection::Texture(name)) = shown {
