@@ -46,9 +46,16 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 kd,
                 ns,
                 ks,
-                pad0,
+                kind,
                 ke,
-                pad1
+                alpha,
+                tf,
+                ior,
+                map_kd,
+                map_ks,
+                map_pr,
+                map_d,
+                opacity
             }),
         ),
         (

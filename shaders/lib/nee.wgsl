@@ -25,7 +25,7 @@ fn light_contribution(s: Surface, m: Material, wo: vec3<f32>, origin: vec3<f32>,
     if shadow_hit(origin, l.end - origin, 0.0, 1.0 - 1e-4) {
         return vec3<f32>(0.0);
     }
-    let le = scene_material(materials, light.material).ke;
+    let le = scene_material_ke(materials, light.material);
     return brdf(m, s.n, wo, l.wi) * le * l.geometry;
 }
 

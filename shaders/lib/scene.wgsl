@@ -18,15 +18,31 @@ struct Triangle {
     pad2: u32,
 }
 
-// Normalised Blinn-Phong: f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns; ke is emitted radiance.
+// A material: its model (`kind`, a MATERIAL_* constant) and the model's parameters
+// (src/scene/gpu.rs documents each). ke is emitted radiance, front faces only.
 struct Material {
     kd: vec3<f32>,
     ns: f32,
     ks: vec3<f32>,
-    pad0: f32,
+    kind: u32,
     ke: vec3<f32>,
-    pad1: f32,
+    // GGX alpha = r^2; 0: smooth (delta).
+    alpha: f32,
+    tf: vec3<f32>,
+    ior: f32,
+    map_kd: u32,
+    map_ks: u32,
+    map_pr: u32,
+    map_d: u32,
+    opacity: f32,
 }
+
+const MATERIAL_LAMBERT: u32 = 0u;
+const MATERIAL_PHONG: u32 = 1u;
+const MATERIAL_CONDUCTOR: u32 = 2u;
+const MATERIAL_PLASTIC: u32 = 3u;
+const MATERIAL_DIELECTRIC: u32 = 4u;
+const NO_TEXTURE: u32 = 0xffffffffu;
 
 // A light (src/scene/lights.rs): the points p0 + a e1 + b e2 with a, b >= 0 and a + b <= 1 (a
 // triangle, second == LIGHT_NO_TRIANGLE) or a, b in [0, 1] (a parallelogram of two triangles).
@@ -125,13 +141,22 @@ fn scene_triangle_vertices(view: texture_storage_2d<rgba32uint, read>, i: u32) -
     );
 }
 
-// Material i of a scene.materials view (3 texels each).
+// Material i of a scene.materials view (6 texels each).
 fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Material {
-    let a = scene_texel(view, 3u * i);
-    let b = scene_texel(view, 3u * i + 1u);
-    let c = scene_texel(view, 3u * i + 2u);
-    return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz),
-                    bitcast<f32>(b.w), bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w));
+    let a = scene_texel(view, 6u * i);
+    let b = scene_texel(view, 6u * i + 1u);
+    let c = scene_texel(view, 6u * i + 2u);
+    let d = scene_texel(view, 6u * i + 3u);
+    let e = scene_texel(view, 6u * i + 4u);
+    let f = scene_texel(view, 6u * i + 5u);
+    return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), b.w,
+                    bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
+                    bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x));
+}
+
+// Only the emitted radiance of material i (what light sampling needs).
+fn scene_material_ke(view: texture_storage_2d<rgba32uint, read>, i: u32) -> vec3<f32> {
+    return bitcast<vec3<f32>>(scene_texel(view, 6u * i + 2u).xyz);
 }
 
 // Light i of a scene.lights view (3 texels each).

@@ -18,7 +18,7 @@ fn shade_direct(ray: Primary, source: SampleSource) -> DirectSample {
         return DirectSample(vec3<f32>(0.0), vec3<f32>(0.0));
     }
     let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
-    let emitted = select(vec3<f32>(0.0), scene_material(materials, s.material).ke, s.front);
+    let emitted = select(vec3<f32>(0.0), scene_material_ke(materials, s.material), s.front);
     var sum = vec3<f32>(0.0);
     for (var j = 0u; j < light_samples; j++) {
         let light = sample_split(source, light_samples, j);

@@ -53,7 +53,7 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: "scene.materials",
         kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file",
+        what: "materials from the MTL file (96 bytes each: src/scene/gpu.rs)",
         bytes: |i| bytemuck::cast_slice(&i.gpu.materials).to_vec(),
     },
     Resource {

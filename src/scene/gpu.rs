@@ -26,18 +26,48 @@ pub struct Triangle {
     pub pad2: u32,
 }
 
-/// Normalised Blinn-Phong: f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns; `ke` is emitted
-/// radiance (front face only).
+/// A material: its model (`kind`, one of the `MATERIAL_*` constants) and the model's
+/// parameters, as `shaders/lib/scene.wgsl`'s `Material` (6 texels). Which MTL keys give which
+/// kind: `obj.rs`. `ke` is emitted radiance (front face only) whatever the kind.
+///
+/// - Lambert: f = kd / pi.
+/// - Phong (the seed's normalised Blinn-Phong): f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns.
+/// - Conductor: GGX microfacets of roughness `alpha` (0: a perfect mirror), Fresnel = kd.
+/// - Plastic: diffuse kd under a GGX dielectric coat of index `ior`, specular tint ks.
+/// - Dielectric: one-sided glass of index `ior` (the front face is outside), transmittance tf.
+///
+/// `map_*` index `scene.textures` (or [`NO_TEXTURE`]): a texture replaces kd, ks or the
+/// roughness r (alpha = r²); `map_d` and `opacity` < 1 cut the surface out.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Material {
     pub kd: [f32; 3],
     pub ns: f32,
     pub ks: [f32; 3],
-    pub pad0: f32,
+    pub kind: u32,
     pub ke: [f32; 3],
-    pub pad1: f32,
+    /// GGX alpha = r²; 0 is the smooth (delta) case.
+    pub alpha: f32,
+    pub tf: [f32; 3],
+    pub ior: f32,
+    pub map_kd: u32,
+    pub map_ks: u32,
+    pub map_pr: u32,
+    pub map_d: u32,
+    /// MTL `d`: 1 opaque; below 1 the fraction of light the surface stops.
+    pub opacity: f32,
+    pub pad: [u32; 3],
 }
+
+/// Material kinds (`Material::kind`); bit `1 << kind` of the `scene_material_kinds` override.
+pub const MATERIAL_LAMBERT: u32 = 0;
+pub const MATERIAL_PHONG: u32 = 1;
+pub const MATERIAL_CONDUCTOR: u32 = 2;
+pub const MATERIAL_PLASTIC: u32 = 3;
+pub const MATERIAL_DIELECTRIC: u32 = 4;
+
+/// A material's texture index when it has none.
+pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// A threaded BVH node as the build and the CPU twin see it, its box on the BVH's grid
 /// ([`BvhGrid`]); the GPU reads it as a [`PackedBvhNode`]. Interior: `count == 0` and `a` is the
@@ -105,7 +135,7 @@ pub struct Frame {
 
 // WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
 const _: () = assert!(size_of::<Triangle>() == 48);
-const _: () = assert!(size_of::<Material>() == 48);
+const _: () = assert!(size_of::<Material>() == 96);
 const _: () = assert!(size_of::<GpuBvhGrid>() == 32);
 const _: () = assert!(size_of::<PackedBvhNode>() == 16);
 const _: () = assert!(size_of::<GpuCamera>() == 64);
@@ -137,9 +167,17 @@ impl Material {
             kd,
             ns: 0.0,
             ks: [0.0; 3],
-            pad0: 0.0,
+            kind: MATERIAL_LAMBERT,
             ke: [0.0; 3],
-            pad1: 0.0,
+            alpha: 0.0,
+            tf: [1.0; 3],
+            ior: 1.5,
+            map_kd: NO_TEXTURE,
+            map_ks: NO_TEXTURE,
+            map_pr: NO_TEXTURE,
+            map_d: NO_TEXTURE,
+            opacity: 1.0,
+            pad: [0; 3],
         }
     }
 
@@ -147,8 +185,20 @@ impl Material {
         self.ke.iter().any(|&c| c > 0.0)
     }
 
+    /// Whether the model has a lobe other than Lambert's (Phong with ks > 0 or any GGX or
+    /// smooth model).
     pub fn is_specular(&self) -> bool {
-        self.ks.iter().any(|&c| c > 0.0)
+        match self.kind {
+            MATERIAL_LAMBERT => false,
+            MATERIAL_PHONG => self.ks.iter().any(|&c| c > 0.0),
+            _ => true,
+        }
+    }
+}
+
+impl Default for Material {
+    fn default() -> Material {
+        Material::DEFAULT
     }
 }
 

@@ -22,6 +22,10 @@ pub use bvh_grid::BvhGrid;
 pub use camera::{CameraDesc, CameraError};
 pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, Scene, load_scene};
-pub use gpu::{BvhNode, Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, SceneGpu, Triangle};
+pub use gpu::{
+    BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
+    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, PackedBvhNode,
+    SceneGpu, Triangle,
+};
 pub use intersect::{Hit, Ray};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};

@@ -7,7 +7,7 @@
 //! fan-triangulates the polygons.
 
 use super::error::{Location, SceneError};
-use super::gpu::Material;
+use super::gpu::{MATERIAL_LAMBERT, MATERIAL_PHONG, Material};
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use glam::Vec3;
 use std::collections::{HashMap, HashSet};
@@ -403,10 +403,16 @@ fn convert_material(m: &tobj::Material) -> Material {
             .collect::<Option<_>>()?;
         values.get(..3).map(|v| [v[0], v[1], v[2]])
     });
+    let ks = m.specular.unwrap_or([0.0; 3]);
     Material {
         kd: m.diffuse.unwrap_or(Material::DEFAULT.kd),
         ns: m.shininess.unwrap_or(0.0),
-        ks: m.specular.unwrap_or([0.0; 3]),
+        ks,
+        kind: if ks.iter().any(|&c| c > 0.0) {
+            MATERIAL_PHONG
+        } else {
+            MATERIAL_LAMBERT
+        },
         ke: ke.unwrap_or([0.0; 3]),
         ..Material::default()
     }
