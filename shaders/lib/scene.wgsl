@@ -6,7 +6,18 @@ override scene_triangle_count: u32 = 0u;
 override scene_node_count: u32 = 0u;
 // The first BVH node of the triangles that can block a shadow ray (src/scene/hull.rs).
 override scene_occluder_root: u32 = 0u;
+// Whether a material has a lobe other than Lambert's.
 override scene_has_specular: bool = true;
+// Bit 1 << kind for each material kind (MATERIAL_*) a triangle uses: code for absent kinds is
+// specialised away.
+override scene_material_kinds: u32 = 0xffffffffu;
+// The longest path in segments, as Mitsuba's max_depth: 1 emitters seen, 2 direct light,
+// 3 one bounce (the seed's model), ...
+override scene_max_depth: u32 = 3u;
+
+fn scene_has_kind(kind: u32) -> bool {
+    return (scene_material_kinds & (1u << kind)) != 0u;
+}
 
 // One triangle, in BVH order; `material` indexes `scene.materials`.
 struct Triangle {

@@ -122,8 +122,20 @@ const OVERRIDES: &[Override] = &[
     Override {
         name: "scene_has_specular",
         ty: ParamType::Bool,
-        what: "whether any material has a specular lobe (Ks > 0)",
+        what: "whether any material has a lobe other than Lambert's (Phong Ks > 0, GGX, smooth)",
         value: |gpu| if gpu.has_specular { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_material_kinds",
+        ty: ParamType::U32,
+        what: "bit 1 << kind for each material kind a triangle uses (src/scene/gpu.rs)",
+        value: |gpu| f64::from(gpu.material_kinds),
+    },
+    Override {
+        name: "scene_max_depth",
+        ty: ParamType::U32,
+        what: "longest path in segments, as Mitsuba's max_depth (3: direct light and one bounce)",
+        value: |gpu| f64::from(gpu.max_depth),
     },
 ];
 

@@ -66,6 +66,9 @@ pub const MATERIAL_CONDUCTOR: u32 = 2;
 pub const MATERIAL_PLASTIC: u32 = 3;
 pub const MATERIAL_DIELECTRIC: u32 = 4;
 
+/// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
+pub const DEFAULT_MAX_DEPTH: u32 = 3;
+
 /// A material's texture index when it has none.
 pub const NO_TEXTURE: u32 = u32::MAX;
 
@@ -248,6 +251,11 @@ pub struct SceneGpu {
     pub light_count: u32,
     /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
     pub has_specular: bool,
+    /// Bit `1 << kind` for each material kind a triangle uses: the `scene_material_kinds`
+    /// override, which specialises the shaders to those models.
+    pub material_kinds: u32,
+    /// The longest path in segments (Mitsuba's `max_depth`): the `scene_max_depth` override.
+    pub max_depth: u32,
     pub bvh: BvhStats,
 }
 
@@ -275,8 +283,14 @@ impl SceneGpu {
                 .get(t.material as usize)
                 .is_some_and(Material::is_specular)
         });
+        let material_kinds = triangles
+            .iter()
+            .filter_map(|t| materials.get(t.material as usize))
+            .fold(0, |kinds, m| kinds | 1 << m.kind);
         SceneGpu {
             light_count: lights.len() as u32,
+            material_kinds,
+            max_depth: DEFAULT_MAX_DEPTH,
             triangles,
             materials,
             lights,
