@@ -24,8 +24,8 @@ pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, Scene, load_scene};
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
-    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, PackedBvhNode,
-    SceneGpu, Triangle,
+    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,
+    PackedBvhNode, SceneGpu, Triangle,
 };
 pub use intersect::{Hit, Ray};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};
