@@ -1,0 +1,255 @@
+//! Support for the tests/bsdf_*.rs suites: a seeded random source, the materials and
+//! incidences every suite runs over, spherical grids, and the chi-square test.
+#![allow(dead_code)]
+
+pub mod chi2;
+
+use chi2::chi2_test;
+use glam::{Vec2, Vec3};
+use passgraph::bsdf::frame::{basis, to_local};
+use passgraph::bsdf::{Bsdf, Sample, pdf};
+use passgraph::scene::{
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
+};
+
+/// SplitMix64: a fixed seed gives the same numbers everywhere.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1), 24 bits.
+    pub fn f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
+    }
+
+    pub fn vec2(&mut self) -> Vec2 {
+        Vec2::new(self.f32(), self.f32())
+    }
+
+    /// Uniform on the unit sphere.
+    pub fn sphere(&mut self) -> Vec3 {
+        let z = 1.0 - 2.0 * self.f32();
+        let phi = 2.0 * std::f32::consts::PI * self.f32();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+/// A material seen from one direction: the inputs of eval / pdf / sample but wi.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    pub bsdf: Bsdf,
+    /// The shading normal, turned to wo's side.
+    pub n: Vec3,
+    pub outside: bool,
+    pub wo: Vec3,
+}
+
+/// A normal off the axes, so the tests go through `basis` as a renderer does.
+pub fn tilted_normal() -> Vec3 {
+    Vec3::new(0.3, -0.5, 0.8).normalize()
+}
+
+/// The direction at cos(theta) = `cos_o` from `n`, azimuth 0.7 rad in n's frame.
+pub fn incident(n: Vec3, cos_o: f32) -> Vec3 {
+    let s = (1.0 - cos_o * cos_o).max(0.0).sqrt();
+    (basis(n) * Vec3::new(s * 0.7f32.cos(), s * 0.7f32.sin(), cos_o)).normalize()
+}
+
+pub fn bsdf(kind: u32, kd: Vec3, ks: Vec3, ns: f32, alpha: f32, ior: f32, tf: Vec3) -> Bsdf {
+    Bsdf {
+        kind,
+        kd,
+        ks,
+        ns,
+        alpha,
+        ior,
+        tf,
+    }
+}
+
+/// The roughness values every rough model runs with: near-smooth, medium, rough.
+pub const ROUGHNESS: [f32; 3] = [0.01, 0.3, 1.0];
+/// Incidences: normal, oblique, grazing.
+pub const INCIDENCE: [f32; 3] = [1.0, 0.5, 0.05];
+
+/// The materials of the suites: tinted (`white` false) or white (all reflectances 1, the
+/// furnace's), each kind at each roughness (0 for the delta variants), the dielectric from both
+/// sides.
+pub fn materials(white: bool) -> Vec<(String, Bsdf, bool)> {
+    let pick = |tinted: Vec3| if white { Vec3::ONE } else { tinted };
+    let kd = pick(Vec3::new(0.7, 0.5, 0.3));
+    let ks = pick(Vec3::new(0.9, 0.8, 0.6));
+    let tf = pick(Vec3::new(0.95, 0.9, 0.8));
+    let mut out = vec![(
+        "lambert".to_string(),
+        bsdf(MATERIAL_LAMBERT, kd, Vec3::ZERO, 0.0, 0.0, 1.0, Vec3::ZERO),
+        true,
+    )];
+    for ns in [10.0, 200.0] {
+        // Phong with kd + ks = 1 as the seed's scenes keep it.
+        let b = bsdf(
+            MATERIAL_PHONG,
+            Vec3::splat(0.5),
+            Vec3::splat(0.5),
+            ns,
+            0.0,
+            1.0,
+            Vec3::ZERO,
+        );
+        out.push((format!("phong ns {ns}"), b, true));
+    }
+    for alpha in [0.0, ROUGHNESS[0], ROUGHNESS[1], ROUGHNESS[2]] {
+        let b = bsdf(
+            MATERIAL_CONDUCTOR,
+            kd,
+            Vec3::ZERO,
+            0.0,
+            alpha,
+            1.0,
+            Vec3::ZERO,
+        );
+        out.push((format!("conductor alpha {alpha}"), b, true));
+    }
+    let b = bsdf(MATERIAL_PLASTIC, kd, ks, 0.0, 0.0, 1.5, Vec3::ZERO);
+    out.push(("plastic".to_string(), b, true));
+    for alpha in [0.0, ROUGHNESS[0], ROUGHNESS[1], ROUGHNESS[2]] {
+        for outside in [true, false] {
+            let b = bsdf(
+                MATERIAL_DIELECTRIC,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                0.0,
+                alpha,
+                1.5,
+                tf,
+            );
+            let side = if outside { "outside" } else { "inside" };
+            out.push((format!("dielectric alpha {alpha} {side}"), b, outside));
+        }
+    }
+    out
+}
+
+/// Every material at every incidence.
+pub fn cases(white: bool) -> Vec<Case> {
+    let n = tilted_normal();
+    let mut out = Vec::new();
+    for (name, b, outside) in materials(white) {
+        for cos_o in INCIDENCE {
+            out.push(Case {
+                name: format!("{name}, cos wo {cos_o}"),
+                bsdf: b,
+                n,
+                outside,
+                wo: incident(n, cos_o),
+            });
+        }
+    }
+    out
+}
+
+/// A grid of cells equal in theta and phi around n, each integrated by the midpoint rule on
+/// `sub` x `sub` points: cells equal in theta (rather than cos theta) keep a near-smooth lobe
+/// around the normal several points wide.
+pub struct SphereGrid {
+    pub rows: usize,
+    pub cols: usize,
+    pub sub: usize,
+}
+
+impl SphereGrid {
+    /// The cell of a direction given in n's local frame.
+    pub fn cell(&self, local: Vec3) -> usize {
+        let theta = local.z.clamp(-1.0, 1.0).acos() as f64;
+        let mut phi = (local.y as f64).atan2(local.x as f64);
+        if phi < 0.0 {
+            phi += 2.0 * std::f64::consts::PI;
+        }
+        let r = ((theta / std::f64::consts::PI) * self.rows as f64) as usize;
+        let c = ((phi / (2.0 * std::f64::consts::PI)) * self.cols as f64) as usize;
+        r.min(self.rows - 1) * self.cols + c.min(self.cols - 1)
+    }
+
+    /// The integral of `f` (over local directions) on each cell, with the sin theta Jacobian.
+    pub fn integrate(&self, f: impl Fn(Vec3) -> f64) -> Vec<f64> {
+        use std::f64::consts::PI;
+        let (dt, dp) = (PI / self.rows as f64, 2.0 * PI / self.cols as f64);
+        let (st, sp) = (dt / self.sub as f64, dp / self.sub as f64);
+        let mut out = vec![0.0; self.rows * self.cols];
+        for r in 0..self.rows {
+            for i in 0..self.sub {
+                let theta = r as f64 * dt + (i as f64 + 0.5) * st;
+                let (sin_t, cos_t) = theta.sin_cos();
+                for c in 0..self.cols {
+                    let mut sum = 0.0;
+                    for j in 0..self.sub {
+                        let phi = c as f64 * dp + (j as f64 + 0.5) * sp;
+                        let d = Vec3::new(
+                            (sin_t * phi.cos()) as f32,
+                            (sin_t * phi.sin()) as f32,
+                            cos_t as f32,
+                        );
+                        sum += f(d);
+                    }
+                    out[r * self.cols + c] += sum * sin_t * st * sp;
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The grid for a model: finer sub-sampling for near-smooth lobes (alpha 0.01: lobes about
+/// 0.03 rad wide get about 8 points across at 64 x 24 per pi).
+pub fn grid_for(b: &Bsdf) -> SphereGrid {
+    let near_smooth = (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC)
+        && b.alpha > 0.0
+        && b.alpha < 0.05;
+    let phong_sharp = b.kind == MATERIAL_PHONG && b.ns > 100.0;
+    SphereGrid {
+        rows: 64,
+        cols: 128,
+        sub: if near_smooth || phong_sharp { 24 } else { 8 },
+    }
+}
+
+/// A fixed seed per case and a p-value threshold of 1e-3, as Mitsuba 3's and pbrt's chi-square
+/// tests use: a correct sampler fails one case in a thousand seeds.
+pub const P_THRESHOLD: f64 = 1e-3;
+
+/// The chi-square p-value of `samples` (drawn for `case`) against the twin's pdf. One extra
+/// cell holds the samples not histogrammed (failed or delta), expecting 1 - integral of pdf.
+pub fn chi2_p_value(case: &Case, samples: &[Sample]) -> f64 {
+    let grid = grid_for(&case.bsdf);
+    let frame = basis(case.n);
+    let mut observed = vec![0.0; grid.rows * grid.cols + 1];
+    for s in samples {
+        if s.delta || s.pdf <= 0.0 {
+            observed[grid.rows * grid.cols] += 1.0;
+        } else {
+            observed[grid.cell(to_local(&frame, s.wi))] += 1.0;
+        }
+    }
+    let n = samples.len() as f64;
+    let mut expected: Vec<f64> = grid
+        .integrate(|local| pdf(&case.bsdf, case.n, case.outside, case.wo, frame * local) as f64)
+        .iter()
+        .map(|p| p * n)
+        .collect();
+    let histogrammed: f64 = expected.iter().sum();
+    expected.push((n - histogrammed).max(0.0));
+    chi2_test(&observed, &expected).p_value
+}
