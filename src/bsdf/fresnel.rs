@@ -47,6 +47,7 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
     let approx_2 = 0.919317
         + inv_eta
             * (-3.4793
-                + inv_eta * (6.75335 + inv_eta * (-7.80989 + inv_eta * (4.98554 + inv_eta * -1.36881))));
+                + inv_eta
+                    * (6.75335 + inv_eta * (-7.80989 + inv_eta * (4.98554 + inv_eta * -1.36881))));
     if eta < 1.0 { approx_1 } else { approx_2 }
 }

@@ -3,7 +3,7 @@
 //! Local frame: normal +z, wo.z >= 0.
 
 use super::frame::sample_cosine;
-use super::fresnel::{fresnel_diffuse_reflectance, fresnel_dielectric};
+use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
 use super::{Bsdf, Sample};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -21,7 +21,11 @@ pub fn specular_probability(b: &Bsdf, f_i: f32) -> f32 {
     };
     let p_s = f_i * w;
     let p_d = (1.0 - f_i) * (1.0 - w);
-    if p_s + p_d > 0.0 { p_s / (p_s + p_d) } else { 1.0 }
+    if p_s + p_d > 0.0 {
+        p_s / (p_s + p_d)
+    } else {
+        1.0
+    }
 }
 
 /// The base's light through the coat: kd / (1 - internal diffuse reflectance), the coat's
