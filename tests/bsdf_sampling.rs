@@ -4,7 +4,7 @@
 
 mod bsdf_support;
 
-use bsdf_support::{Case, Rng, cases, chi2_p_value};
+use bsdf_support::{Case, Rng, cases, chi2_p_value, rounding_tolerance};
 use glam::Vec3;
 use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
@@ -44,48 +44,9 @@ fn sampled_directions_follow_pdf_by_chi_square() {
     println!("{report}");
 }
 
-/// The relative tolerance between two f32 evaluations of the same quantity at `wi` as a sample
-/// made it and as it reads back through the world frame: 2e-5 (a few hundred ulps of
-/// differently ordered expressions), plus for GGX models the D's amplification of the half
-/// vector's rounding. A direction is rounded by about 4 epsilon (two rotations), the half vector
-/// m = (wo + eta' wi) / |wo + eta' wi| by 4 epsilon eta' / |wo + eta' wi| (large at grazing,
-/// where |wo + wi| = 2 wo.m is small), and |d ln D / dm| <= 2 / alpha near the peak, 4 / m.z
-/// in the tail toward the horizon (D ~ alpha^2 cos^4 theta_m there); the Jacobian's
-/// 1 / (w.m), w.m about |wo + eta' wi| / 2, turns m's error into 8 epsilon eta' / |h|^2; a
-/// dielectric's F near the critical angle adds 1e-6 / |cos_t^2| (cos_t^2 = 1 - (1 - (wo.m)^2) /
-/// eta^2, whose rounding F's square root amplifies; bsdf_reciprocity.rs). Cosines and G1 near
-/// the horizon carry the direction's rounding as 4 epsilon / |cos| relative.
-pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
-    let b = &case.bsdf;
-    let grazing =
-        4.0 * f32::EPSILON * (1.0 / wi.dot(case.n).abs() + 1.0 / case.wo.dot(case.n).abs());
-    if !(b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC) || b.alpha == 0.0 {
-        return 2e-5 + grazing;
-    }
-    let transmits = wi.dot(case.n) < 0.0;
-    let eta = if transmits {
-        relative_eta(b, case.outside)
-    } else {
-        1.0
-    };
-    let h = case.wo + eta * wi;
-    let m_z = (h.dot(case.n) / h.length()).abs();
-    let d_log_d = 2.0 / b.alpha.max(1e-4) + 4.0 / m_z;
-    let jacobian = 8.0 * f32::EPSILON * eta / h.length_squared();
-    let across = relative_eta(b, case.outside);
-    let c = case.wo.dot(h) / h.length();
-    let cos_t_sqr = 1.0 - (1.0 - c * c) / (across * across);
-    let fresnel = if b.kind == MATERIAL_DIELECTRIC {
-        (1e-6 / cos_t_sqr.abs()).min(1.0)
-    } else {
-        0.0
-    };
-    2e-5 + grazing + jacobian + fresnel + d_log_d * (4.0 * f32::EPSILON * eta / h.length())
-}
-
 /// Fails on a sample whose weight is not f |cos| / pdf of the same direction, or whose pdf is
 /// not pdf's (the integrator divides by pdf for MIS and trusts the weight). Bound:
-/// [`rounding_tolerance`].
+/// `rounding_tolerance` (tests/bsdf_support).
 #[test]
 fn sample_weight_is_eval_over_pdf() {
     // The largest relative difference, and the largest as a fraction of its tolerance.
