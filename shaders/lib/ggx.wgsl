@@ -35,8 +35,10 @@ fn ggx_g1(alpha: f32, v: vec3<f32>, m: vec3<f32>) -> f32 {
 fn ggx_sample_visible(alpha: f32, wi: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
     let vh = normalize(vec3<f32>(alpha * wi.x, alpha * wi.y, wi.z));
     let lensq = vh.x * vh.x + vh.y * vh.y;
+    // Below 1e-12 (|xy| < 1e-6) wi's azimuth is rounding noise: a fixed tangent makes the same u
+    // give the same direction on every device.
     var t1 = vec3<f32>(1.0, 0.0, 0.0);
-    if lensq > 0.0 {
+    if lensq > 1e-12 {
         t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
     }
     let t2 = cross(vh, t1);

@@ -37,8 +37,10 @@ pub fn ggx_g1(alpha: f32, v: Vec3, m: Vec3) -> f32 {
 pub fn ggx_sample_visible(alpha: f32, wi: Vec3, u: Vec2) -> Vec3 {
     let vh = Vec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
     let lensq = vh.x * vh.x + vh.y * vh.y;
+    // Below 1e-12 (|xy| < 1e-6) wi's azimuth is rounding noise: a fixed tangent makes the same u
+    // give the same direction on every device.
     let mut t1 = Vec3::X;
-    if lensq > 0.0 {
+    if lensq > 1e-12 {
         t1 = Vec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt();
     }
     let t2 = vh.cross(t1);

@@ -318,6 +318,10 @@ pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
     let b = &case.bsdf;
     let grazing =
         4.0 * f32::EPSILON * (1.0 / wi.dot(case.n).abs() + 1.0 / case.wo.dot(case.n).abs());
+    if b.kind == MATERIAL_PHONG {
+        // pow(n.h, ns) multiplies n.h's relative error by ns (and pow's own, exp2 of ns log2).
+        return 2e-5 + grazing + b.ns * 8.0 * f32::EPSILON;
+    }
     if !(b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC) || b.alpha == 0.0 {
         return 2e-5 + grazing;
     }
