@@ -65,6 +65,11 @@ fn query(case: &Case, wi: Vec3, u: Vec2, u_lobe: f32) -> Query {
 }
 
 fn run(gpu: &Gpu, queries: &[Query]) -> Vec<Answer> {
+    run_with_kinds(gpu, queries, None)
+}
+
+/// As [`run`], with the `scene_material_kinds` override set to `kinds` (a scene's bits).
+fn run_with_kinds(gpu: &Gpu, queries: &[Query], kinds: Option<u32>) -> Vec<Answer> {
     use wgpu::util::DeviceExt;
     let path = root().join("tests/data/bsdf/bsdf_probe.wgsl");
     let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
@@ -81,7 +86,12 @@ fn run(gpu: &Gpu, queries: &[Query]) -> Vec<Answer> {
             layout: None,
             module: &module,
             entry_point: Some("main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &kinds
+                    .map(|k| vec![("scene_material_kinds", f64::from(k))])
+                    .unwrap_or_default(),
+                ..Default::default()
+            },
             cache: None,
         });
     let input = gpu
@@ -239,4 +249,52 @@ fn gpu_samples_follow_pdf_by_chi_square_and_weigh_eval_over_pdf() {
         }
     }
     println!("{report}");
+}
+
+/// Fails when a model's code escapes its `scene_has_kind` guard, or the guards break the
+/// library when specialised: with `scene_material_kinds` = Lambert only (a Lambert-only scene),
+/// Lambert answers exactly as with every kind, and every other kind answers nothing (its code
+/// is gone).
+#[test]
+fn a_lambert_only_scene_keeps_lambert_and_specialises_the_rest_away() {
+    let gpu = gpu();
+    let mut rng = Rng::new(99);
+    let all = cases(false);
+    let queries: Vec<Query> = all
+        .iter()
+        .flat_map(|case| {
+            (0..20)
+                .map(|_| {
+                    let wi = rng.sphere();
+                    let u = rng.vec2();
+                    query(case, wi, u, rng.f32())
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let lambert_only = 1u32 << passgraph::scene::MATERIAL_LAMBERT;
+    let every = run(&gpu, &queries);
+    let specialised = run_with_kinds(&gpu, &queries, Some(lambert_only));
+    for (i, (a, b)) in every.iter().zip(&specialised).enumerate() {
+        let case = &all[i / 20];
+        if case.bsdf.kind == passgraph::scene::MATERIAL_LAMBERT {
+            assert_eq!(
+                bytemuck::bytes_of(a),
+                bytemuck::bytes_of(b),
+                "{}: Lambert changed under specialisation",
+                case.name
+            );
+        } else {
+            assert_eq!(
+                b.eval_pdf, [0.0; 4],
+                "{}: eval/pdf without its code",
+                case.name
+            );
+            assert_eq!(
+                b.weight_pdf, [0.0; 4],
+                "{}: a sample without its code",
+                case.name
+            );
+        }
+    }
 }

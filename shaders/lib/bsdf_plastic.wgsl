@@ -1,6 +1,10 @@
 // Plastic: a diffuse base kd under a smooth dielectric coat of index ior (outside index 1)
 // whose reflection is tinted ks, as Mitsuba 3's plastic with nonlinear false, two-sided. Local
 // frame: normal +z, wo.z >= 0.
+//
+// alpha is ignored: a rough plastic (Mitsuba's roughplastic) needs per-material tables (the
+// coat's transmittance over cos theta and its internal reflectance, integrals over the GGX
+// visible normals) that Material does not carry yet, so every plastic is the smooth one.
 
 // The probability of sampling the coat's delta reflection rather than the base, from the
 // reflectance at wo (f_i): Mitsuba's weights, with the tints' means at this point.

@@ -1,6 +1,10 @@
 //! Plastic (`shaders/lib/bsdf_plastic.wgsl`): a diffuse base kd under a smooth dielectric coat of
 //! index ior (outside 1) tinted ks, as Mitsuba 3's plastic with nonlinear false, two-sided.
 //! Local frame: normal +z, wo.z >= 0.
+//!
+//! alpha is ignored: a rough plastic (Mitsuba's roughplastic) needs per-material tables (the
+//! coat's transmittance over cos theta and its internal reflectance) that Material does not
+//! carry yet, so every plastic is the smooth one.
 
 use super::frame::sample_cosine;
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
