@@ -143,6 +143,8 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
     let answers = run(&gpu, &queries);
     let (mut worst_eval, mut worst_sample, mut worst_wi) = (0.0f32, 0.0f32, 0.0f32);
     let mut branch_differences = 0;
+    let mut worst_case = String::new();
+    let mut differences = Vec::new();
     for ((q, a), &c) in queries.iter().zip(&answers).zip(&owners) {
         let case = &all[c];
         let wi = Vec3::from_slice(&q.wi[..3]);
@@ -151,7 +153,11 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
         let tol = rounding_tolerance(case, wi);
         for k in 0..3 {
             let d = rel(a.eval_pdf[k], e[k], 1e-6);
+            if d > worst_eval {
+                worst_case = format!("{} at wi {wi} (tolerance {tol:e})", case.name);
+            }
             worst_eval = worst_eval.max(d);
+            differences.push(d);
             assert!(
                 d <= tol,
                 "{}: GPU eval {:?} CPU {e} at {wi} (tolerance {tol})",
@@ -161,6 +167,7 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
         }
         let d = rel(a.eval_pdf[3], p, 1e-6);
         worst_eval = worst_eval.max(d);
+        differences.push(d);
         assert!(
             d <= tol,
             "{}: GPU pdf {} CPU {p} at {wi} (tolerance {tol})",
@@ -196,6 +203,12 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
         "{} queries: eval/pdf largest relative difference {worst_eval:e}, samples: wi \
          {worst_wi:e}, weight and pdf {worst_sample:e}, {branch_differences} lobe choices differ",
         queries.len()
+    );
+    differences.sort_by(f32::total_cmp);
+    println!(
+        "eval/pdf relative differences: median {:e}, 99th percentile {:e}; largest {worst_case}",
+        differences[differences.len() / 2],
+        differences[differences.len() * 99 / 100]
     );
     assert!(
         branch_differences * 1000 <= queries.len(),
