@@ -113,11 +113,11 @@ fn eval_and_pdf_match_mitsuba_3() {
 /// roughplastic's: a quadrature rule, a sampler mapping, a Fresnel argument or the internal
 /// reflectance's average differing. Mitsuba does not expose the tables, so its diffuse lobe
 /// alone (tests/data/bsdf/mitsuba_plastic_tables.txt: kd 1, wo on the normal, wi at each table
-/// cosine i / 63) gives them: cos / (pi eta^2) t(1) t(cos) / (1 - internal reflectance), every
-/// entry against the first and, through t(1)^2 / (1 - R), the internal reflectance. Bound:
-/// Mitsuba integrates in f32, 32^2 or 128^2 terms summed in order (rounding grows as the
-/// square root of the count: ~1e-5 relative for 128^2) and reads the table in f32; ours is
-/// f64 rounded to f32: 3e-5 relative.
+/// cosine i / 63) gives them: cos / (pi eta^2) t(1) t(cos) / (1 - internal reflectance), so each
+/// entry relative to t(1), and t(1)^2 / (1 - R). (t alone also sets the lobe probability, which
+/// the table's pdf rows check at other cosines.) Bound: Mitsuba integrates in f32, up to 128^2
+/// terms summed in order (rounding about 128 x 6e-8 = 8e-6 relative) and reads the table in
+/// f32; ours is f64 rounded to f32: 1e-5 relative (measured: 4e-6).
 #[test]
 fn rough_plastic_tables_match_mitsuba_3() {
     use passgraph::bsdf::plastic_tables::PlasticTable;
@@ -148,7 +148,7 @@ fn rough_plastic_tables_match_mitsuba_3() {
         worst = worst.max(rel);
         count += 1;
         assert!(
-            rel <= 3e-5,
+            rel <= 1e-5,
             "alpha {alpha} ior {ior} cos {cos}: ours {ours} but Mitsuba {mitsuba} ({rel:e})"
         );
     }
