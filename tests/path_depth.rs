@@ -26,10 +26,7 @@ fn furnace(depth: u32) -> tempfile::TempDir {
         "mesh: \"furnace.obj\",",
         &format!("mesh: \"furnace.obj\",\n    max_depth: {depth},"),
     );
-    assert!(
-        scene.contains("max_depth"),
-        "the furnace scene names its mesh"
-    );
+    assert!(scene.contains("max_depth"), "the furnace scene names its mesh");
     std::fs::write(dir.path().join("scene.ron"), scene).unwrap();
     dir
 }
@@ -91,24 +88,16 @@ fn cornell_box_at_max_depth_8_matches_mitsuba() {
     let scene = std::fs::read_to_string(&path).unwrap();
     std::fs::write(
         &path,
-        scene.replace(
-            "mesh: \"cornell.obj\",",
-            "mesh: \"cornell.obj\",\n    max_depth: 8,",
-        ),
+        scene.replace("mesh: \"cornell.obj\",", "mesh: \"cornell.obj\",\n    max_depth: 8,"),
     )
     .unwrap();
     let frames = 128;
-    let a = render(
-        &settings("graphs/pathtracer.ron", &path, 128, 1, &[]),
-        frames,
-    );
-    let b = render(
-        &settings("graphs/pathtracer.ron", &path, 128, 2, &[]),
-        frames,
-    );
-    let reference =
-        RgbImage::read_exr(&root().join("tests/data/references/cornell-128-depth8-mj.exr"))
-            .unwrap();
+    let a = render(&settings("graphs/pathtracer.ron", &path, 128, 1, &[]), frames);
+    let b = render(&settings("graphs/pathtracer.ron", &path, 128, 2, &[]), frames);
+    let reference = RgbImage::read_exr(
+        &root().join("tests/data/references/cornell-128-depth8-mj.exr"),
+    )
+    .unwrap();
     let all: Vec<usize> = (0..128 * 128).collect();
     let channels = "l0+direct+indirect";
     // The reference's noise floor: RMSE 1e-3 (tests/data/references/README.md).
