@@ -13,6 +13,7 @@ pub mod gpu;
 pub mod hull;
 pub mod intersect;
 pub mod lights;
+pub mod material_tables;
 pub mod mesh;
 mod obj;
 mod ply;
@@ -28,4 +29,5 @@ pub use gpu::{
     PackedBvhNode, SceneGpu, Triangle,
 };
 pub use intersect::{Hit, Ray};
+pub use material_tables::{NO_TABLE, materials_bytes};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};
