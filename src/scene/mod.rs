@@ -16,6 +16,7 @@ pub mod lights;
 pub mod mesh;
 mod obj;
 mod ply;
+pub mod texture;
 
 pub use bvh::{Bvh, BvhStats};
 pub use bvh_grid::BvhGrid;
