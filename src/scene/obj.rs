@@ -348,6 +348,12 @@ fn check_face<'a>(
             vertex_count: counts[0],
             valid: valid_range(counts[0], "vertices"),
         })?;
+        indices.push(position);
+    }
+    // Texture coordinate and normal indices after every position's: a face's positions are the
+    // more fundamental error.
+    for word in rest.split_whitespace() {
+        let parts: Vec<&str> = word.split('/').collect();
         let optional = |slot: usize,
                         what: &str,
                         plural: &str|
@@ -378,7 +384,6 @@ fn check_face<'a>(
         };
         let vt = optional(1, "texture coordinate", "texture coordinates")?;
         let vn = optional(2, "normal", "normals")?;
-        indices.push(position);
         corners.push((vt, vn));
     }
     if indices.is_empty() {
