@@ -26,7 +26,7 @@ pub use file::{DEFAULT_SCENE, Scene, load_scene};
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, PackedBvhNode,
-    SceneGpu, Triangle,
+    SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};
