@@ -99,6 +99,9 @@ struct RenderArgs {
     /// The scene file (RON naming a mesh and a camera).
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// Frames to accumulate (one sample per pixel each).
     #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES, value_parser = parse_frames)]
     frames: u32,
@@ -139,6 +142,9 @@ struct ViewArgs {
     graph: PathBuf,
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// Image size, WxH; the window starts at twice this.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     size: [u32; 2],
@@ -161,6 +167,9 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// A graph variant (repeatable): [LABEL=]GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...];
     /// @CHANNEL compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
     /// :SETs override params for this variant only (see src/bench/variant.rs).
@@ -326,6 +335,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
             adapter: args.adapter.clone(),
             max_frames: u32::MAX,
             keep: Keep::Outputs,
+            max_depth: args.max_depth,
         };
         eprintln!("bench {label} ...");
         let r =
@@ -458,6 +468,7 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
             args.frames
         },
         keep: Keep::Outputs,
+        max_depth: args.max_depth,
     };
     let mut session = Session::for_render(&settings, &args.channel).map_err(|e| e.to_string())?;
     let segments = match &args.camera_path {
@@ -487,8 +498,8 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         scene_bytes as f64 / bvh.triangle_count.max(1) as f64
     );
     eprintln!(
-        "specialised: scene_light_count={}, scene_has_specular={}",
-        scene.light_count, scene.has_specular
+        "specialised: scene_light_count={}, scene_has_specular={}, scene_max_depth={}",
+        scene.light_count, scene.has_specular, scene.max_depth
     );
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
@@ -570,6 +581,15 @@ fn parse_frames(s: &str) -> Result<u32, String> {
     }
 }
 
+/// A path length of at least one segment (Mitsuba's max_depth).
+fn parse_max_depth(s: &str) -> Result<u32, String> {
+    let depth: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    passgraph::scene::check_max_depth(depth)
+}
+
 /// A finite, positive time budget: NaN or infinity would never be reached.
 fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -619,6 +639,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
                 // Any texture the graph computes can be shown.
                 keep: Keep::EveryTexture,
+                max_depth: a.max_depth,
             },
             window_scale: 2,
             script: a.script,

@@ -449,6 +449,9 @@ impl SceneGpu {
 impl Scene {
     /// The scene's GPU buffers (builds the BVH).
     pub fn to_gpu(&self) -> SceneGpu {
-        SceneGpu::build(&self.mesh)
+        SceneGpu {
+            max_depth: self.max_depth,
+            ..SceneGpu::build(&self.mesh)
+        }
     }
 }

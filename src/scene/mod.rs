@@ -22,7 +22,7 @@ pub use bvh::{Bvh, BvhStats};
 pub use bvh_grid::BvhGrid;
 pub use camera::{CameraDesc, CameraError};
 pub use error::{Location, SceneError};
-pub use file::{DEFAULT_SCENE, Scene, load_scene};
+pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, PackedBvhNode,
