@@ -72,6 +72,21 @@ enum Command {
         #[arg(long)]
         adapter: Option<String>,
     },
+    /// Write the scene for Mitsuba 3: DIR/scene.xml (parameters $spp, $sampler_type,
+    /// $max_depth, $seed with defaults) and one OBJ per material.
+    MitsubaScene {
+        /// The scene file (RON naming a mesh and a camera).
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Image size, WxH.
+        #[arg(long, default_value = "256x256", value_parser = parse_size)]
+        size: [u32; 2],
+        /// Longest path in segments (replaces the scene file's).
+        #[arg(long, value_parser = parse_max_depth)]
+        max_depth: Option<u32>,
+    },
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -689,6 +704,24 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     }
                 )));
             }
+        }
+        Command::MitsubaScene {
+            scene,
+            out,
+            size,
+            max_depth,
+        } => {
+            let scene = passgraph::scene::load_scene(&scene).map_err(|e| e.to_string())?;
+            for warning in &scene.mesh.warnings {
+                eprintln!("warning: {warning}");
+            }
+            let options = passgraph::scene::mitsuba::ExportOptions { size, max_depth };
+            let written = passgraph::scene::mitsuba::export(&scene, &out, &options)?;
+            println!(
+                "wrote {} ({} meshes)",
+                out.join("scene.xml").display(),
+                written.len() - 1
+            );
         }
         Command::Dot { graph, out } => {
             let dot = to_dot(&plan(&graph)?);

@@ -14,6 +14,7 @@ pub mod hull;
 pub mod intersect;
 pub mod lights;
 pub mod mesh;
+pub mod mitsuba;
 mod obj;
 mod ply;
 pub mod texture;
