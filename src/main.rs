@@ -499,7 +499,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     let scene_bytes = size_of_val(scene.triangles.as_slice())
         + size_of_val(scene.materials.as_slice())
         + size_of_val(scene.lights.as_slice())
-        + scene.bvh_bytes().len();
+        + scene.bvh_bytes().len()
+        + scene.shading_bytes().len()
+        + scene.textures_bytes().len();
     eprintln!("adapter: {}", passgraph::gpu::context::describe(info));
     eprintln!(
         "scene: {} triangles ({} degenerate), {} lights; BVH {} nodes, depth {}, built in {:.1} ms; {} bytes on the GPU ({:.1} per triangle)",
