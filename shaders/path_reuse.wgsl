@@ -1,8 +1,7 @@
 // Path with reuse: the fused path pass (shaders/path.wgsl), whose indirect channel shares each
 // bounce's hit among a small group of neighbouring pixels, the lanes of one subgroup (path
 // reuse, Bekaert, Sbert and Halton 2002). Each pixel of a group traces `bounces` bounces from
-// its primary hit x1 and a
-// next-event estimate at each hit x2, as path.wgsl does; then it joins its x1 to every other
+// its primary hit x1 and the light leaving each hit x2, as path.wgsl does; then it joins its x1 to every other
 // member's x2 with a visibility ray, and weighs all the group's x2 by the balance heuristic
 // over the members' sampling densities:
 //
@@ -19,9 +18,10 @@
 // visibility rays. The group's bounce directions are consecutive points of one stratified
 // sequence (the group's first pixel's), as one pixel's split bounces are in path.wgsl.
 //
-// L(x) toward another member's x1 is the next-event estimate made toward the member that drew
-// x: the same only for a Lambertian x. A scene with a specular lobe (scene_has_specular)
-// shares nothing: each pixel traces as many bounces as its group would have pooled
+// L(x) toward another member's x1 is the light the member that drew x found leaving it (its
+// next-event estimate and, past max_depth 3, the paths that continue from x: path_light.wgsl):
+// the same toward every x1 only for a Lambertian x. A scene with any other lobe
+// (scene_has_specular) shares nothing: each pixel traces as many bounces as its group would have pooled
 // (bounces * reuse_pixels), and the estimate is path.wgsl's.
 //
 // The group exchanges its points through subgroup shuffles, not workgroup memory: on lavapipe
@@ -38,18 +38,21 @@
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
 #include "lib/sampling.wgsl"
-#include "lib/brdf.wgsl"
+#include "lib/bsdf.wgsl"
+#include "lib/mis.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/tile_order.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/shading_point.wgsl"
 #include "lib/light_sample.wgsl"
 #include "lib/light_select.wgsl"
 #include "lib/nee.wgsl"
 #include "lib/shade_ambient.wgsl"
 #include "lib/shade_direct.wgsl"
 #include "lib/path_pass.wgsl"
+#include "lib/path_light.wgsl"
 
 // A pass param: bounces each pixel traces per sample, 1 to REUSE_MAX_BOUNCES.
 override bounces: u32 = 1u;
@@ -103,6 +106,7 @@ fn main(
         let source = sample_source(id.xy, samples_per_frame, k);
         var has_first = false;
         var s = Surface(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), false, 0u);
+        var p: ShadingPoint;
         var wo = vec3<f32>(0.0);
         if inside {
             let ray = path_primary(id.xy, source);
@@ -113,7 +117,8 @@ fn main(
             // Without lights there is nothing to find at a second hit: no bounce at all.
             if ray.triangle != NO_HIT && scene_light_count > 0u {
                 has_first = true;
-                s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
+                p = shading_point(ray.triangle, ray.u, ray.v, ray.dir);
+                s = p.s;
                 wo = -ray.dir;
             }
         }
@@ -122,19 +127,11 @@ fn main(
             // Nothing to share: each pixel traces the bounces its group would have pooled, and
             // the estimate is path.wgsl's (the same samples and arithmetic, in index order).
             if has_first {
-                let m1 = scene_material(materials, s.material);
                 let n = b * clamp(reuse_pixels, 1u, REUSE_MAX_PIXELS);
                 var own = vec3<f32>(0.0);
                 for (var j = 0u; j < n; j++) {
                     let bounce = sample_split(source, n, j);
-                    let u = sample_2d(bounce, DIM_BOUNCE);
-                    let d = sample_cosine(s.n, u.x, u.y);
-                    let hit = closest_hit(offset_ray(s.p, s.n), d, 0.0, 3.0e38);
-                    if hit.triangle != NO_HIT {
-                        let s2 = surface_at(scene_triangle(triangles, hit.triangle), hit.u, hit.v, d);
-                        let weight = brdf(m1, s.n, wo, d) * PI;
-                        own += weight * direct_light(s2, -d, bounce, DIM_BOUNCE_SELECT, DIM_BOUNCE_LIGHT);
-                    }
+                    own += bounce_path(p, wo, bounce, sample_2d(bounce, DIM_BOUNCE));
                 }
                 sum_indirect += own / f32(n);
             }
@@ -156,10 +153,10 @@ fn main(
                 let d = sample_cosine(s.n, u.x, u.y);
                 let hit = closest_hit(offset_ray(s.p, s.n), d, 0.0, 3.0e38);
                 if hit.triangle != NO_HIT {
-                    let s2 = surface_at(scene_triangle(triangles, hit.triangle), hit.u, hit.v, d);
-                    second[j] = vec4<f32>(s2.p, 1.0);
-                    normal[j] = s2.n;
-                    light[j] = direct_light(s2, -d, sample_split(source, b, j), DIM_BOUNCE_SELECT, DIM_BOUNCE_LIGHT);
+                    let x2 = shading_point(hit.triangle, hit.u, hit.v, d);
+                    second[j] = vec4<f32>(x2.s.p, 1.0);
+                    normal[j] = x2.s.n;
+                    light[j] = path_light(x2, d, sample_split(source, b, j));
                 }
             }
         }
@@ -195,7 +192,8 @@ fn main(
             rows[n] = subgroupShuffle(visible, base + n);
         }
 
-        let m1 = scene_material(materials, s.material);
+        // Lambertian (share is false otherwise): f = kd / pi toward every q.
+        let f1 = p.b.kd * (1.0 / PI);
         var estimate = vec3<f32>(0.0);
         for (var m = 0u; m < members; m++) {
             for (var j = 0u; j < b; j++) {
@@ -222,7 +220,7 @@ fn main(
                     let dn2 = dot(wn, wn);
                     density += dot(first_n[n], wn) * -dot(nq, wn) * d2 / (dn2 * dn2);
                 }
-                estimate += brdf(m1, s.n, wo, dir) * cos_i * cos_q * lq * (PI / density);
+                estimate += f1 * cos_i * cos_q * lq * (PI / density);
             }
         }
         sum_indirect += estimate / f32(b);

@@ -6,6 +6,7 @@
 
 pub mod atomic_write;
 pub mod bench;
+pub mod bsdf;
 pub mod gpu;
 pub mod graph;
 pub mod graphtest;

@@ -36,7 +36,7 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 p0,
                 material,
                 p1,
-                pad1,
+                light,
                 p2,
                 pad2
             }),

@@ -27,20 +27,35 @@ const LIGHT_SOLID_ANGLE_MAX: f32 = 6.2;
 // subtends between LIGHT_SOLID_ANGLE_MIN and _MAX from a point in front of it (points next to
 // the light: the 1/d^2 of area sampling would give a few samples huge weights), uniform by area
 // otherwise. The choice depends on the shading point only, so the estimate stays unbiased.
+// The spherical rectangle `light` is sampled over from `origin`, or one of solid angle 0 when
+// sample_light samples it by area.
+fn light_solid_angle_rectangle(origin: vec3<f32>, light: Light) -> SphericalRectangle {
+    let parallelogram = light.second != LIGHT_NO_TRIANGLE;
+    let c = cross(light.e1, light.e2);
+    let nl = c / length(c);
+    let rectangle = parallelogram && abs(dot(light.e1, light.e2)) <= 1e-6 * length(light.e1) * length(light.e2);
+    if rectangle && dot(nl, origin - light.p0) > 0.0 {
+        let r = spherical_rectangle(origin, light.p0, light.e1, light.e2);
+        if r.solid_angle >= LIGHT_SOLID_ANGLE_MIN && r.solid_angle <= LIGHT_SOLID_ANGLE_MAX {
+            return r;
+        }
+    }
+    var none: SphericalRectangle;
+    none.solid_angle = 0.0;
+    return none;
+}
+
 fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> LightSample {
     let parallelogram = light.second != LIGHT_NO_TRIANGLE;
     let c = cross(light.e1, light.e2);
     let twice = length(c);
     let nl = c / twice;
-    let rectangle = parallelogram && abs(dot(light.e1, light.e2)) <= 1e-6 * length(light.e1) * length(light.e2);
-    if rectangle && dot(nl, origin - light.p0) > 0.0 {
-        let r = spherical_rectangle(origin, light.p0, light.e1, light.e2);
-        if r.solid_angle >= LIGHT_SOLID_ANGLE_MIN && r.solid_angle <= LIGHT_SOLID_ANGLE_MAX {
-            let q = spherical_rectangle_point(r, u);
-            let wi = normalize(q - origin);
-            let cos_x = dot(s.n, wi);
-            return LightSample(offset_ray(q, nl), wi, cos_x, -dot(nl, wi), cos_x * r.solid_angle);
-        }
+    let r = light_solid_angle_rectangle(origin, light);
+    if r.solid_angle > 0.0 {
+        let q = spherical_rectangle_point(r, u);
+        let wi = normalize(q - origin);
+        let cos_x = dot(s.n, wi);
+        return LightSample(offset_ray(q, nl), wi, cos_x, -dot(nl, wi), cos_x * r.solid_angle);
     }
     // A parallelogram takes the square's points as they are.
     let ab = select(square_to_triangle(u), u, parallelogram);
@@ -58,4 +73,20 @@ fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> Li
     let cos_x = dot(s.n, wi);
     let cos_y = -dot(nl, wi);
     return LightSample(end, wi, cos_x, cos_y, cos_x * cos_y / d2 * area);
+}
+
+// The solid-angle density with which sample_light picks the direction wi from `origin` toward
+// the point q of `light` (q on its front face): what multiple importance sampling weighs a
+// BSDF-sampled ray that hits the light against.
+fn light_pdf(origin: vec3<f32>, light: Light, q: vec3<f32>, wi: vec3<f32>) -> f32 {
+    let r = light_solid_angle_rectangle(origin, light);
+    if r.solid_angle > 0.0 {
+        return 1.0 / r.solid_angle;
+    }
+    let c = cross(light.e1, light.e2);
+    let twice = length(c);
+    let area = select(0.5 * twice, twice, light.second != LIGHT_NO_TRIANGLE);
+    let cos_y = -dot(c / twice, wi);
+    let to_light = q - origin;
+    return select(0.0, dot(to_light, to_light) / (cos_y * area), cos_y > 0.0);
 }

@@ -61,3 +61,12 @@ fn select_light(origin: vec3<f32>, n: vec3<f32>, u: f32) -> LightChoice {
     }
     return choice;
 }
+
+// The probability with which select_light draws light i (for multiple importance sampling).
+fn light_pmf(origin: vec3<f32>, n: vec3<f32>, i: u32) -> f32 {
+    var total = 0.0;
+    for (var j = 0u; j < scene_light_count; j++) {
+        total += light_weight(origin, n, j);
+    }
+    return select(0.0, light_weight(origin, n, i) / total, total > 0.0);
+}

@@ -1,54 +1,87 @@
-// Next-event estimation, shared by direct and indirect. The including shader declares
-// `triangles`, `materials`, `lights`, `light_power`, `bvh` and `frame`, and includes scene, rng,
-// sampler, sampling, brdf, bvh, surface, light_sample and light_select.
+// Next-event estimation and its counterpart, BSDF-sampled rays that hit an emitter, weighted
+// against each other (mis.wgsl); shared by the direct and indirect channels. The including
+// shader declares `triangles`, `materials`, `lights`, `light_power`, `bvh` and `frame`, and
+// includes scene, rng, sampler, sampling, bsdf, mis, bvh, surface, shading_point,
+// light_sample and light_select.
 
 // A pass param: one light per shading point, chosen by light_select.wgsl, instead of all.
 override light_selection: bool = false;
 
-// Light reaching s from the emitters, toward wo. `dim_select` and `dim_light` are the sampler
-// pairs (sampler.wgsl) of the light choice and of the point on the light.
-fn direct_light(s: Surface, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
-    if light_selection {
-        return selected_light(s, wo, source, dim_select, dim_light);
+// Light reaching p from the emitters by light sampling, toward wo. `dim_select` and `dim_light`
+// are the sampler pairs (sampler.wgsl) of the light choice and of the point on the light.
+fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
+    if !mis_uses_light() || bsdf_is_delta(p.b) {
+        return vec3<f32>(0.0);
     }
-    return all_lights(s, wo, source, dim_light);
+    if light_selection {
+        return selected_light(p, wo, source, dim_select, dim_light);
+    }
+    return all_lights(p, wo, source, dim_light);
 }
 
-// f * Le * (cos_x * cos_y / d^2 * area, or cos_x * S) for the point u picks on light i
-// (light_sample.wgsl), 0 if occluded.
-fn light_contribution(s: Surface, m: Material, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>) -> vec3<f32> {
+// f cos * Le / pdf for the point u picks on light i (light_sample.wgsl), times its MIS weight,
+// 0 if occluded. pmf: the probability light i was chosen (1 when every light is sampled).
+fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>, pmf: f32) -> vec3<f32> {
     let light = scene_light(lights, i);
-    let l = sample_light(s, origin, light, u);
+    let l = sample_light(p.s, origin, light, u);
     if l.cos_x <= 0.0 || l.cos_y <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let f = bsdf_eval(p.b, p.ns, p.s.front, wo, l.wi);
+    if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
     if shadow_hit(origin, l.end - origin, 0.0, 1.0 - 1e-4) {
         return vec3<f32>(0.0);
     }
-    let le = scene_material_ke(materials, light.material);
-    return brdf(m, s.n, wo, l.wi) * le * l.geometry;
+    // geometry is cos_x over the point's solid-angle density; f already holds the cosine.
+    let inverse_pdf = l.geometry / l.cos_x;
+    let weight = mis_light_weight(pmf / inverse_pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, l.wi));
+    return f * scene_material_ke(materials, light.material) * (inverse_pdf * weight / pmf);
 }
 
 // One light, drawn with probability pmf, and its contribution divided by pmf.
-fn selected_light(s: Surface, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
-    let origin = offset_ray(s.p, s.n);
-    let choice = select_light(origin, s.n, sample_1d(source, dim_select));
+fn selected_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
+    let origin = offset_ray(p.s.p, p.s.n);
+    let choice = select_light(origin, p.s.n, sample_1d(source, dim_select));
     if choice.index == LIGHT_NONE {
         return vec3<f32>(0.0);
     }
-    let m = scene_material(materials, s.material);
-    return light_contribution(s, m, wo, origin, choice.index, sample_2d(source, dim_light)) / choice.pmf;
+    return light_contribution(p, wo, origin, choice.index, sample_2d(source, dim_light), choice.pmf);
 }
 
 // One point on every light and a shadow ray to each; light i takes its point from
 // its own sampler pair.
-fn all_lights(s: Surface, wo: vec3<f32>, source: SampleSource, dim_light: u32) -> vec3<f32> {
-    let m = scene_material(materials, s.material);
-    let origin = offset_ray(s.p, s.n);
+fn all_lights(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_light: u32) -> vec3<f32> {
+    let origin = offset_ray(p.s.p, p.s.n);
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < scene_light_count; i++) {
         let u = sample_2d(source, dim_light + SAMPLER_LIGHT_STRIDE * i);
-        sum += light_contribution(s, m, wo, origin, i, u);
+        sum += light_contribution(p, wo, origin, i, u, 1.0);
     }
     return sum;
+}
+
+// The emitted radiance a BSDF sample from p (ray from `origin` along bs.wi) meets at hit q,
+// times its MIS weight against light sampling from p.
+fn emission_weighted(p: ShadingPoint, origin: vec3<f32>, bs: BsdfSample, q: ShadingPoint) -> vec3<f32> {
+    // Light sampling alone counts the emitters a non-delta sample meets.
+    if all(q.emitted == vec3<f32>(0.0)) || (!bs.delta && !mis_uses_bsdf()) {
+        return vec3<f32>(0.0);
+    }
+    // The density light sampling gives this direction: 0 below p's tangent plane, where no
+    // light sample is taken, or for an emitter that is not a light (zero area).
+    var pdf_light = 0.0;
+    if !bs.delta && mis_uses_light() && q.light != NO_LIGHT && dot(p.s.n, bs.wi) > 0.0 {
+        pdf_light = light_pdf(origin, scene_light(lights, q.light), q.s.p, bs.wi);
+        if light_selection {
+            pdf_light *= light_pmf(offset_ray(p.s.p, p.s.n), p.s.n, q.light);
+        }
+    }
+    return q.emitted * mis_bsdf_weight(bs.pdf, bs.delta, pdf_light);
+}
+
+// Whether a vertex takes a BSDF sample for the emitters it hits (besides any it needs to go on).
+fn samples_bsdf_for_light(p: ShadingPoint) -> bool {
+    return mis_uses_bsdf() || bsdf_is_delta(p.b);
 }

@@ -21,7 +21,23 @@ const DIM_DIRECT_LIGHT: u32 = 3u;     // direct: point on the light
 const DIM_BOUNCE: u32 = 4u;           // indirect: bounce direction
 const DIM_BOUNCE_SELECT: u32 = 5u;    // indirect: which light at the bounce's hit
 const DIM_BOUNCE_LIGHT: u32 = 6u;     // indirect: point on that light
+const DIM_DIRECT_BSDF: u32 = 7u;      // direct: BSDF-sampled direction at the primary hit (MIS)
 const SAMPLER_LIGHT_STRIDE: u32 = 8u;
+// 1D choices of a BSDF lobe, and every sample of path vertices past the first bounce's hit,
+// take pairs far above the light pairs (dim + 8 i): path_dim below.
+const DIM_DIRECT_LOBE: u32 = 0x40000000u;
+const DIM_BOUNCE_LOBE: u32 = 0x40000001u;
+
+// The sampler pair `slot` (PATH_DIM_*) of the vertex that ends a path's `depth`-th segment
+// (depth >= 3: vertices past the first bounce's hit). Light i's point takes
+// slot PATH_DIM_LIGHT + SAMPLER_LIGHT_STRIDE * i, so pairs stay distinct below 2^17 lights.
+fn path_dim(depth: u32, slot: u32) -> u32 {
+    return 0x50000000u + (depth << 20u) + slot;
+}
+const PATH_DIM_SELECT: u32 = 0u;
+const PATH_DIM_BSDF: u32 = 1u;
+const PATH_DIM_LOBE: u32 = 2u;
+const PATH_DIM_LIGHT: u32 = 3u;
 
 const SAMPLER_INDEPENDENT: u32 = 0u;
 const SAMPLER_SOBOL: u32 = 1u;

@@ -26,12 +26,13 @@ fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
 }
 
-// One triangle, in BVH order; `material` indexes `scene.materials`.
+// One triangle, in BVH order; `material` indexes `scene.materials`, `light` `scene.lights` (the
+// light the triangle is part of, or NO_LIGHT).
 struct Triangle {
     p0: vec3<f32>,
     material: u32,
     p1: vec3<f32>,
-    pad1: u32,
+    light: u32,
     p2: vec3<f32>,
     pad2: u32,
 }
@@ -77,6 +78,7 @@ const MATERIAL_CONDUCTOR: u32 = 2u;
 const MATERIAL_PLASTIC: u32 = 3u;
 const MATERIAL_DIELECTRIC: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
+const NO_LIGHT: u32 = 0xffffffffu;
 
 // A light (src/scene/lights.rs): the points p0 + a e1 + b e2 with a, b >= 0 and a + b <= 1 (a
 // triangle, second == LIGHT_NO_TRIANGLE) or a, b in [0, 1] (a parallelogram of two triangles).

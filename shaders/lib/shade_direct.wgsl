@@ -1,11 +1,13 @@
 // The L0 and direct (L1) channels of one sample: emission seen at the primary hit (front
-// faces only) and next-event estimation there. The including shader declares what nee.wgsl
-// needs and includes it and primary.wgsl.
+// faces only), and light reaching the primary hit straight from an emitter: next-event
+// estimation there and, where the scene has non-Lambertian lobes or the surface is a mirror or
+// glass, BSDF-sampled rays that hit an emitter, the two weighted by MIS (mis.wgsl). The
+// including shader declares what nee.wgsl needs and includes it and primary.wgsl.
 
-// A pass param: next-event estimates per sample at the primary hit, averaged (splitting, as
-// `bounces` for the indirect channel; sampler.wgsl's sample_split), so one sample's points on a
-// light are consecutive points of one stratified sequence: a penumbra is integrated by a small net of
-// shadow rays rather than one, for one more shadow ray each.
+// A pass param: next-event estimates (and BSDF samples) per sample at the primary hit,
+// averaged (splitting, as `bounces` for the indirect channel; sampler.wgsl's sample_split), so
+// one sample's points on a light are consecutive points of one stratified sequence: a penumbra
+// is integrated by a small net of shadow rays rather than one, for one more shadow ray each.
 override light_samples: u32 = 1u;
 
 struct DirectSample {
@@ -17,12 +19,32 @@ fn shade_direct(ray: Primary, source: SampleSource) -> DirectSample {
     if ray.triangle == NO_HIT {
         return DirectSample(vec3<f32>(0.0), vec3<f32>(0.0));
     }
-    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
-    let emitted = select(vec3<f32>(0.0), scene_material_ke(materials, s.material), s.front);
+    let p = shading_point(ray.triangle, ray.u, ray.v, ray.dir);
+    let wo = -ray.dir;
     var sum = vec3<f32>(0.0);
-    for (var j = 0u; j < light_samples; j++) {
-        let light = sample_split(source, light_samples, j);
-        sum += direct_light(s, -ray.dir, light, DIM_DIRECT_SELECT, DIM_DIRECT_LIGHT);
+    if scene_max_depth >= 2u {
+        for (var j = 0u; j < light_samples; j++) {
+            let split = sample_split(source, light_samples, j);
+            sum += direct_light(p, wo, split, DIM_DIRECT_SELECT, DIM_DIRECT_LIGHT);
+            if samples_bsdf_for_light(p) {
+                sum += bsdf_light(p, wo, split);
+            }
+        }
     }
-    return DirectSample(emitted, sum / f32(light_samples));
+    return DirectSample(p.emitted, sum / f32(light_samples));
+}
+
+// A BSDF sample from the primary hit p: the emission it meets, weighted.
+fn bsdf_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> vec3<f32> {
+    let bs = bsdf_sample(p.b, p.ns, p.s.front, wo, sample_2d(source, DIM_DIRECT_BSDF), sample_1d(source, DIM_DIRECT_LOBE));
+    if all(bs.weight == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let origin = leaving(p.s, bs.wi);
+    let hit = closest_hit(origin, bs.wi, 0.0, 3.0e38);
+    if hit.triangle == NO_HIT {
+        return vec3<f32>(0.0);
+    }
+    let q = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
+    return bs.weight * emission_weighted(p, origin, bs, q);
 }

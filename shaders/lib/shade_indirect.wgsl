@@ -1,7 +1,7 @@
-// The indirect channel of one sample: cosine-weighted bounces from the primary hit, then
-// next-event estimation at each bounce's hit with that point's BRDF. Emission met by a bounce
-// is not added: L1 counts it. The including shader declares what nee.wgsl needs and includes
-// it and primary.wgsl.
+// The indirect channel of one sample: every path of 3 to scene_max_depth segments, from
+// `bounces` BSDF-sampled bounces at the primary hit (path_light.wgsl follows each). Emission
+// met by the first bounce is not added: L1 counts it. The including shader declares what
+// nee.wgsl needs and includes it, primary.wgsl and path_light.wgsl.
 
 // A pass param: bounces per sample from the one primary hit, averaged (splitting). Where the
 // indirect light is the image's noise, more of them cost less than more whole samples: the
@@ -24,12 +24,11 @@ override coherent_bounces: bool = true;
 const BOUNCE_BATCH: u32 = 8u;
 
 fn shade_indirect(ray: Primary, source: SampleSource) -> vec3<f32> {
-    // Without lights there is nothing to find at the second hit: no bounce ray at all.
-    if ray.triangle == NO_HIT || scene_light_count == 0u {
+    // Without lights there is nothing to find past the first bounce: no bounce ray at all.
+    if ray.triangle == NO_HIT || scene_light_count == 0u || scene_max_depth < 3u {
         return vec3<f32>(0.0);
     }
-    let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
-    let m = scene_material(materials, s.material);
+    let p = shading_point(ray.triangle, ray.u, ray.v, ray.dir);
     var sum = vec3<f32>(0.0);
     for (var first = 0u; first < bounces; first += BOUNCE_BATCH) {
         let n = min(BOUNCE_BATCH, bounces - first);
@@ -41,7 +40,7 @@ fn shade_indirect(ray: Primary, source: SampleSource) -> vec3<f32> {
             order[t] = t;
         }
         if coherent_bounces {
-            // Rank by azimuth (sample_cosine's angle is 2 pi u.y), ties by index.
+            // Rank by azimuth (the cosine lobe's angle is 2 pi u.y), ties by index.
             for (var t = 0u; t < n; t++) {
                 var rank = 0u;
                 for (var r = 0u; r < n; r++) {
@@ -52,22 +51,8 @@ fn shade_indirect(ray: Primary, source: SampleSource) -> vec3<f32> {
         }
         for (var j = 0u; j < n; j++) {
             let t = order[j];
-            sum += bounce_light(ray, s, m, sample_split(source, bounces, first + t), u[t]);
+            sum += bounce_path(p, -ray.dir, sample_split(source, bounces, first + t), u[t]);
         }
     }
     return sum / f32(bounces);
-}
-
-// One bounce from s (material m) in the cosine-distributed direction u picks: light reaching s
-// through it, times f cos / pdf.
-fn bounce_light(ray: Primary, s: Surface, m: Material, bounce: SampleSource, u: vec2<f32>) -> vec3<f32> {
-    let d = sample_cosine(s.n, u.x, u.y);
-    let second = closest_hit(offset_ray(s.p, s.n), d, 0.0, 3.0e38);
-    if second.triangle == NO_HIT {
-        return vec3<f32>(0.0);
-    }
-    let s2 = surface_at(scene_triangle(triangles, second.triangle), second.u, second.v, d);
-    // f * cos / pdf with pdf = cos / pi.
-    let weight = brdf(m, s.n, -ray.dir, d) * PI;
-    return weight * direct_light(s2, -d, bounce, DIM_BOUNCE_SELECT, DIM_BOUNCE_LIGHT);
 }

@@ -15,14 +15,16 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use std::mem::size_of;
 
-/// One triangle, in BVH order; `material` indexes the materials buffer.
+/// One triangle, in BVH order; `material` indexes the materials buffer, `light` the lights
+/// buffer (the light this triangle is part of, or [`NO_LIGHT`]): what multiple importance
+/// sampling needs to weigh a ray that hits an emitter.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Triangle {
     pub p0: [f32; 3],
     pub material: u32,
     pub p1: [f32; 3],
-    pub pad1: u32,
+    pub light: u32,
     pub p2: [f32; 3],
     pub pad2: u32,
 }
@@ -88,6 +90,9 @@ pub const MATERIAL_DIELECTRIC: u32 = 4;
 
 /// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
 pub const DEFAULT_MAX_DEPTH: u32 = 3;
+
+/// A triangle's `light` when it is not part of one.
+pub const NO_LIGHT: u32 = u32::MAX;
 
 /// A material's texture index when it has none.
 pub const NO_TEXTURE: u32 = u32::MAX;
@@ -171,7 +176,7 @@ impl Triangle {
             p0: vertices[0].into(),
             material,
             p1: vertices[1].into(),
-            pad1: 0,
+            light: NO_LIGHT,
             p2: vertices[2].into(),
             pad2: 0,
         }
@@ -334,7 +339,7 @@ impl SceneGpu {
         let vertices: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
         let occluder: Vec<bool> = hull_faces(&vertices).iter().map(|&h| !h).collect();
         let bvh = Bvh::build_with_occluders(&vertices, &occluder);
-        let triangles: Vec<Triangle> = bvh
+        let mut triangles: Vec<Triangle> = bvh
             .order
             .iter()
             .map(|&i| {
@@ -344,6 +349,11 @@ impl SceneGpu {
             .collect();
         let materials = mesh.materials.clone();
         let lights = scene_lights(&triangles, &materials);
+        for (index, light) in lights.iter().enumerate() {
+            for t in light.triangles() {
+                triangles[t as usize].light = index as u32;
+            }
+        }
         let light_power = light_power(&lights, &materials);
         // Shadow rays start at occluder_root, which must stay the occluders' subtree.
         let keep_root = bvh.occluder_root > 0 && (bvh.occluder_root as usize) < bvh.nodes.len();

@@ -26,8 +26,8 @@ pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
-    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, PackedBvhNode,
-    SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
+    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,
+    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};

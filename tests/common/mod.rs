@@ -6,6 +6,7 @@
 
 pub mod bvh_gpu;
 pub mod geometry;
+pub mod reference;
 pub mod render;
 pub mod stats;
 

@@ -1,0 +1,55 @@
+// The paths that continue a bounce: at each vertex past the primary hit, next-event estimation
+// and a BSDF sample that hits an emitter end paths one segment longer (weighted against each
+// other by MIS, nee.wgsl), and the BSDF sample goes on while scene_max_depth allows. The
+// including shader declares what nee.wgsl needs and includes it.
+
+// One bounce from the primary hit p in the direction the BSDF sample u picks, and the light
+// of every path of 3 to scene_max_depth segments that continues it.
+fn bounce_path(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, u: vec2<f32>) -> vec3<f32> {
+    let bs = bsdf_sample(p.b, p.ns, p.s.front, wo, u, sample_1d(source, DIM_BOUNCE_LOBE));
+    if all(bs.weight == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let hit = closest_hit(leaving(p.s, bs.wi), bs.wi, 0.0, 3.0e38);
+    if hit.triangle == NO_HIT {
+        return vec3<f32>(0.0);
+    }
+    let x = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
+    return bs.weight * path_light(x, bs.wi, source);
+}
+
+// The light leaving the first bounce's hit x back along -dir (x ends a path's second segment)
+// by every path of 3 to scene_max_depth segments through it, emission at x itself excluded.
+fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -> vec3<f32> {
+    var x = first;
+    var dir = first_dir;
+    var throughput = vec3<f32>(1.0);
+    var sum = vec3<f32>(0.0);
+    for (var depth = 3u; depth <= scene_max_depth; depth++) {
+        // Paths of `depth` segments end at a light seen from x: sampled on the light...
+        let wo = -dir;
+        let dim_select = select(path_dim(depth, PATH_DIM_SELECT), DIM_BOUNCE_SELECT, depth == 3u);
+        let dim_light = select(path_dim(depth, PATH_DIM_LIGHT), DIM_BOUNCE_LIGHT, depth == 3u);
+        sum += throughput * direct_light(x, wo, source, dim_select, dim_light);
+        // ... or met by a BSDF sample, which also goes on to longer paths.
+        if depth == scene_max_depth && !samples_bsdf_for_light(x) {
+            break;
+        }
+        let u = sample_2d(source, path_dim(depth, PATH_DIM_BSDF));
+        let next = bsdf_sample(x.b, x.ns, x.s.front, wo, u, sample_1d(source, path_dim(depth, PATH_DIM_LOBE)));
+        if all(next.weight == vec3<f32>(0.0)) {
+            break;
+        }
+        let origin = leaving(x.s, next.wi);
+        let hit = closest_hit(origin, next.wi, 0.0, 3.0e38);
+        if hit.triangle == NO_HIT {
+            break;
+        }
+        let y = shading_point(hit.triangle, hit.u, hit.v, next.wi);
+        throughput *= next.weight;
+        sum += throughput * emission_weighted(x, origin, next, y);
+        x = y;
+        dir = next.wi;
+    }
+    return sum;
+}

@@ -1,0 +1,120 @@
+//! The CPU twin of the WGSL BSDF library (`shaders/lib/bsdf.wgsl` and the files it names): the
+//! same functions on glam vectors in f32, line for line the same maths, so tests can compare
+//! them. Conventions as bsdf.wgsl states them: world-space unit directions, `wo` toward the
+//! viewer, `wi` toward the light, `n` the shading normal turned to wo's side, `outside` whether
+//! wo is on the front side (dielectric only). `eval` is f |n.wi| of the non-delta lobes; a
+//! sample's weight is f |n.wi| / pdf; a delta sample's pdf is the probability of having chosen
+//! its lobe.
+
+pub mod conductor;
+pub mod dielectric;
+pub mod frame;
+pub mod fresnel;
+pub mod ggx;
+pub mod lambert;
+pub mod phong;
+pub mod plastic;
+
+use crate::scene::gpu::{
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
+    Material,
+};
+use frame::{basis, to_local};
+use glam::{Vec2, Vec3};
+
+/// A material at one shading point, textures applied (`Bsdf` in bsdf.wgsl).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bsdf {
+    pub kind: u32,
+    pub kd: Vec3,
+    pub ks: Vec3,
+    pub ns: f32,
+    /// GGX alpha; 0: smooth (delta).
+    pub alpha: f32,
+    pub ior: f32,
+    pub tf: Vec3,
+}
+
+impl Bsdf {
+    pub fn from_material(m: &Material) -> Bsdf {
+        Bsdf {
+            kind: m.kind,
+            kd: Vec3::from(m.kd),
+            ks: Vec3::from(m.ks),
+            ns: m.ns,
+            alpha: m.alpha,
+            ior: m.ior,
+            tf: Vec3::from(m.tf),
+        }
+    }
+}
+
+/// A sampled direction (`BsdfSample` in bsdf.wgsl).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub wi: Vec3,
+    /// f |n.wi| / pdf; zero when the sample failed.
+    pub weight: Vec3,
+    /// Solid-angle density, or for a delta sample the probability of its lobe; 0 on failure.
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+impl Sample {
+    pub fn failed(wi: Vec3) -> Sample {
+        Sample {
+            wi,
+            weight: Vec3::ZERO,
+            pdf: 0.0,
+            delta: false,
+        }
+    }
+}
+
+pub fn eval(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, wi: Vec3) -> Vec3 {
+    let frame = basis(n);
+    match b.kind {
+        MATERIAL_LAMBERT => lambert::eval(b, n, wo, wi),
+        MATERIAL_PHONG => phong::eval(b, n, wo, wi),
+        MATERIAL_CONDUCTOR => conductor::eval(b, to_local(&frame, wo), to_local(&frame, wi)),
+        MATERIAL_PLASTIC => plastic::eval(b, to_local(&frame, wo), to_local(&frame, wi)),
+        MATERIAL_DIELECTRIC => {
+            dielectric::eval(b, outside, to_local(&frame, wo), to_local(&frame, wi))
+        }
+        _ => Vec3::ZERO,
+    }
+}
+
+pub fn pdf(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, wi: Vec3) -> f32 {
+    let frame = basis(n);
+    match b.kind {
+        MATERIAL_LAMBERT | MATERIAL_PHONG => lambert::pdf(n, wo, wi),
+        MATERIAL_CONDUCTOR => conductor::pdf(b, to_local(&frame, wo), to_local(&frame, wi)),
+        MATERIAL_PLASTIC => plastic::pdf(b, to_local(&frame, wo), to_local(&frame, wi)),
+        MATERIAL_DIELECTRIC => {
+            dielectric::pdf(b, outside, to_local(&frame, wo), to_local(&frame, wi))
+        }
+        _ => 0.0,
+    }
+}
+
+/// `u` picks the direction within a lobe, `u_lobe` the lobe (plastic, dielectric).
+pub fn sample(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
+    let frame = basis(n);
+    let local = to_local(&frame, wo);
+    let mut s = match b.kind {
+        MATERIAL_LAMBERT => return lambert::sample(b, n, wo, u),
+        MATERIAL_PHONG => return phong::sample(b, n, wo, u),
+        MATERIAL_CONDUCTOR => conductor::sample(b, local, u),
+        MATERIAL_PLASTIC => plastic::sample(b, local, u, u_lobe),
+        MATERIAL_DIELECTRIC => dielectric::sample(b, outside, local, u, u_lobe),
+        _ => return Sample::failed(n),
+    };
+    s.wi = frame * s.wi;
+    s
+}
+
+/// True when every lobe is delta (smooth conductor, smooth dielectric).
+pub fn is_delta(b: &Bsdf) -> bool {
+    b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC)
+}

@@ -1,0 +1,32 @@
+//! The seed's normalised Blinn-Phong (`shaders/lib/bsdf_phong.wgsl`), f = kd / pi + ks (ns + 8)
+//! / (8 pi) max(0, n.h)^ns, sampled by the cosine. No Mitsuba twin.
+
+use super::frame::sample_cosine;
+use super::{Bsdf, Sample, lambert};
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+pub fn eval(b: &Bsdf, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+    let cos_o = n.dot(wo);
+    let cos_i = n.dot(wi);
+    if cos_o <= 0.0 || cos_i <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let h = (wo + wi).normalize();
+    let lobe = (b.ns + 8.0) / (8.0 * PI) * n.dot(h).max(0.0).powf(b.ns);
+    (b.kd * (1.0 / PI) + b.ks * lobe) * cos_i
+}
+
+pub fn sample(b: &Bsdf, n: Vec3, wo: Vec3, u: Vec2) -> Sample {
+    let wi = sample_cosine(n, u.x, u.y);
+    let pdf = lambert::pdf(n, wo, wi);
+    if pdf <= 0.0 {
+        return Sample::failed(wi);
+    }
+    Sample {
+        wi,
+        weight: eval(b, n, wo, wi) / pdf,
+        pdf,
+        delta: false,
+    }
+}

@@ -1,0 +1,124 @@
+//! Path depth with Mitsuba's meaning (`max_depth` in the scene file): in the furnace (a closed
+//! box whose walls all emit Le = 0.5 and reflect rho = 0.5), a path of k segments carries
+//! Le rho^(k-1), so the channels are L0 = Le (k = 1), direct = Le rho (k = 2) and
+//! indirect = Le (rho^2 + ... + rho^(max_depth - 1)): a geometric series that each depth must
+//! end exactly where it should. Run on the GPU (lavapipe in CI) with the seed's separate passes
+//! and the fused path pass.
+
+mod common;
+
+use common::render::{image, render, settings};
+use common::root;
+use passgraph::render::image::RgbImage;
+
+const LE: f64 = 0.5;
+const RHO: f64 = 0.5;
+
+/// The furnace scene with `max_depth: depth`, in a temporary directory.
+fn furnace(depth: u32) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let from = root().join("tests/data/furnace");
+    for file in ["furnace.obj", "furnace.mtl"] {
+        std::fs::copy(from.join(file), dir.path().join(file)).unwrap();
+    }
+    let scene = std::fs::read_to_string(from.join("scene.ron")).unwrap();
+    let scene = scene.replace(
+        "mesh: \"furnace.obj\",",
+        &format!("mesh: \"furnace.obj\",\n    max_depth: {depth},"),
+    );
+    assert!(
+        scene.contains("max_depth"),
+        "the furnace scene names its mesh"
+    );
+    std::fs::write(dir.path().join("scene.ron"), scene).unwrap();
+    dir
+}
+
+/// Mean over pixels and components, and its standard error from the spread of the pixels
+/// (every pixel of the furnace has the same expectation; components are equal: count pixels).
+fn mean_and_standard_error(img: &RgbImage) -> (f64, f64) {
+    let values: Vec<f64> = img.pixels.iter().flatten().map(|&v| f64::from(v)).collect();
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / (n / 3.0)).sqrt())
+}
+
+fn expected(depth: u32) -> [(&'static str, f64); 3] {
+    let indirect: f64 = (3..=depth).map(|k| LE * RHO.powi(k as i32 - 1)).sum();
+    [
+        ("l0", if depth >= 1 { LE } else { 0.0 }),
+        ("direct", if depth >= 2 { LE * RHO } else { 0.0 }),
+        ("indirect", indirect),
+    ]
+}
+
+fn check(graph: &str, depth: u32) {
+    let dir = furnace(depth);
+    let scene = dir.path().join("scene.ron");
+    let session = render(&settings(graph, &scene, 32, 1, &[]), 32);
+    for (channel, expected) in expected(depth) {
+        let (mean, se) = mean_and_standard_error(&image(&session, channel));
+        // Five standard errors (a false failure once in ~1.7 million), plus 1e-5 for f32
+        // accumulation.
+        let bound = 5.0 * se + 1e-5;
+        assert!(
+            (mean - expected).abs() < bound,
+            "{graph}, max_depth {depth}, {channel}: mean {mean}, expected {expected}, bound {bound}"
+        );
+    }
+}
+
+#[test]
+fn each_max_depth_ends_the_furnace_series_where_mitsuba_does() {
+    for depth in [1, 2, 3, 4, 8] {
+        check("graphs/pathtracer.ron", depth);
+    }
+}
+
+#[test]
+fn the_fused_pass_follows_max_depth_too() {
+    for depth in [2, 5] {
+        check("graphs/pathtracer-fused.ron", depth);
+    }
+}
+
+#[test]
+fn cornell_box_at_max_depth_8_matches_mitsuba() {
+    let dir = tempfile::tempdir().unwrap();
+    common::copy_dir(&root().join("scenes/cornell"), dir.path());
+    let path = dir.path().join("scene.ron");
+    let scene = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(
+        &path,
+        scene.replace(
+            "mesh: \"cornell.obj\",",
+            "mesh: \"cornell.obj\",\n    max_depth: 8,",
+        ),
+    )
+    .unwrap();
+    let frames = 128;
+    let a = render(
+        &settings("graphs/pathtracer.ron", &path, 128, 1, &[]),
+        frames,
+    );
+    let b = render(
+        &settings("graphs/pathtracer.ron", &path, 128, 2, &[]),
+        frames,
+    );
+    let reference =
+        RgbImage::read_exr(&root().join("tests/data/references/cornell-128-depth8-mj.exr"))
+            .unwrap();
+    let all: Vec<usize> = (0..128 * 128).collect();
+    let channels = "l0+direct+indirect";
+    // The reference's noise floor: RMSE 1e-3 (tests/data/references/README.md).
+    common::reference::check_region(
+        "Cornell box, max_depth 8",
+        &image(&a, channels),
+        &image(&b, channels),
+        &reference,
+        &all,
+        1e-6,
+        0.01,
+    );
+}
