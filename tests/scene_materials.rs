@@ -255,3 +255,22 @@ fn a_file_that_is_not_an_image_is_an_error_naming_the_line() {
         "map_Ks: cannot read 'bad.png'",
     );
 }
+
+#[test]
+fn the_materials_showcase_loads_each_kind_and_its_texture() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/materials/scene.ron");
+    let scene = passgraph::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = &scene.mesh;
+    let kind = |name: &str| {
+        let i = mesh.material_names.iter().position(|n| n == name).unwrap();
+        mesh.materials[i]
+    };
+    assert_eq!(kind("gold").kind, MATERIAL_CONDUCTOR);
+    assert_eq!(kind("blue_plastic").kind, MATERIAL_PLASTIC);
+    assert_eq!(kind("glass").kind, MATERIAL_DIELECTRIC);
+    assert_eq!(kind("checker_floor").map_kd, 0);
+    assert_eq!(mesh.textures.len(), 1);
+    assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
+    let gpu = scene.to_gpu();
+    assert!(gpu.has_textures && gpu.has_uvs && gpu.has_shading_normals && !gpu.has_cutouts);
+}
