@@ -729,7 +729,7 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
     }
     if let Some(&first) = zero_normals.first() {
         mesh.warnings.push(format!(
-            "{}:{first}: {} face{} a zero-length normal (vn); shaded with the geometric normal",
+            "{}:{first}: {} face{} a zero-length (or overflowing) normal (vn); shaded with the geometric normal",
             path.display(),
             zero_normals.len(),
             if zero_normals.len() == 1 {
