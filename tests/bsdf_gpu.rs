@@ -6,11 +6,46 @@ mod bsdf_support;
 mod common;
 
 use bsdf_support::{Case, Rng, cases, chi2_p_value, rounding_tolerance};
-use common::bvh_gpu::{Gpu, bind_buffers, dispatch_and_read, gpu, output_buffer};
+use common::bvh_gpu::{Gpu, dispatch_and_read, gpu, output_buffer};
 use common::root;
 use glam::{Vec2, Vec3};
 use passgraph::bsdf::{Sample, eval, is_delta, pdf, sample};
+use passgraph::gpu::texels::create_texel_view;
 use passgraph::graph::shader_source::ShaderSource;
+use passgraph::scene::material_tables::materials_texels;
+use passgraph::scene::{MATERIAL_PLASTIC, Material};
+
+/// The materials view the probe binds, laid out by scene loading's own code from the cases'
+/// materials, and each case's table index in it (NO_TABLE for models without one).
+struct Materials {
+    texels: Vec<[f32; 4]>,
+    table: Vec<u32>,
+}
+
+fn materials(cases: &[Case]) -> Materials {
+    let ms: Vec<Material> = cases
+        .iter()
+        .map(|c| Material {
+            kind: c.bsdf.kind,
+            alpha: c.bsdf.alpha,
+            ior: c.bsdf.ior,
+            ..Material::DEFAULT
+        })
+        .collect();
+    let (ms, texels) = materials_texels(&ms);
+    for (m, c) in ms.iter().zip(cases) {
+        assert_eq!(
+            m.table != passgraph::scene::NO_TABLE,
+            c.bsdf.table.is_some() && c.bsdf.kind == MATERIAL_PLASTIC,
+            "{}: scene loading and the twin disagree on the table",
+            c.name
+        );
+    }
+    Materials {
+        texels,
+        table: ms.iter().map(|m| m.table).collect(),
+    }
+}
 
 /// Matches `Query` in bsdf_probe.wgsl.
 #[repr(C)]
@@ -46,7 +81,7 @@ impl Answer {
     }
 }
 
-fn query(case: &Case, wi: Vec3, u: Vec2, u_lobe: f32) -> Query {
+fn query(case: &Case, table: u32, wi: Vec3, u: Vec2, u_lobe: f32) -> Query {
     let b = &case.bsdf;
     Query {
         kd_kind: [b.kd.x, b.kd.y, b.kd.z, f32::from_bits(b.kind)],
@@ -60,16 +95,21 @@ fn query(case: &Case, wi: Vec3, u: Vec2, u_lobe: f32) -> Query {
             if case.outside { 1.0 } else { 0.0 },
         ],
         wi: [wi.x, wi.y, wi.z, 0.0],
-        u: [u.x, u.y, u_lobe, 0.0],
+        u: [u.x, u.y, u_lobe, f32::from_bits(table)],
     }
 }
 
-fn run(gpu: &Gpu, queries: &[Query]) -> Vec<Answer> {
-    run_with_kinds(gpu, queries, None)
+fn run(gpu: &Gpu, materials: &Materials, queries: &[Query]) -> Vec<Answer> {
+    run_with_kinds(gpu, materials, queries, None)
 }
 
 /// As [`run`], with the `scene_material_kinds` override set to `kinds` (a scene's bits).
-fn run_with_kinds(gpu: &Gpu, queries: &[Query], kinds: Option<u32>) -> Vec<Answer> {
+fn run_with_kinds(
+    gpu: &Gpu,
+    materials: &Materials,
+    queries: &[Query],
+    kinds: Option<u32>,
+) -> Vec<Answer> {
     use wgpu::util::DeviceExt;
     let path = root().join("tests/data/bsdf/bsdf_probe.wgsl");
     let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
@@ -102,7 +142,32 @@ fn run_with_kinds(gpu: &Gpu, queries: &[Query], kinds: Option<u32>) -> Vec<Answe
             usage: wgpu::BufferUsages::STORAGE,
         });
     let answers = output_buffer(gpu, (queries.len() * size_of::<Answer>()) as u64);
-    let bind_group = bind_buffers(gpu, &pipeline, &[&input, &answers]);
+    let view = create_texel_view(
+        &gpu.device,
+        &gpu.queue,
+        "materials",
+        bytemuck::cast_slice(&materials.texels),
+    )
+    .expect("the tables fit a texture")
+    .create_view(&Default::default());
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: answers.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+        ],
+    });
     dispatch_and_read(gpu, &pipeline, &bind_group, queries.len(), &answers)
 }
 
@@ -127,6 +192,7 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
     let mut queries = Vec::new();
     let mut owners = Vec::new();
     let all = cases(false);
+    let materials = materials(&all);
     for (c, case) in all.iter().enumerate() {
         for _ in 0..100 {
             let mut wi = rng.sphere();
@@ -136,11 +202,11 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
                 wi = (mirror + 0.05 * rng.sphere()).normalize();
             }
             let u = rng.vec2();
-            queries.push(query(case, wi, u, rng.f32()));
+            queries.push(query(case, materials.table[c], wi, u, rng.f32()));
             owners.push(c);
         }
     }
-    let answers = run(&gpu, &queries);
+    let answers = run(&gpu, &materials, &queries);
     let (mut worst_eval, mut worst_sample, mut worst_wi) = (0.0f32, 0.0f32, 0.0f32);
     let mut branch_differences = 0;
     let mut worst_case = String::new();
@@ -224,7 +290,9 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
 fn gpu_samples_follow_pdf_by_chi_square_and_weigh_eval_over_pdf() {
     let gpu = gpu();
     let mut report = String::new();
-    for (i, case) in cases(false).iter().enumerate() {
+    let all = cases(false);
+    let materials = materials(&all);
+    for (i, case) in all.iter().enumerate() {
         if is_delta(&case.bsdf) {
             continue;
         }
@@ -232,10 +300,10 @@ fn gpu_samples_follow_pdf_by_chi_square_and_weigh_eval_over_pdf() {
         let queries: Vec<Query> = (0..50_000)
             .map(|_| {
                 let u = rng.vec2();
-                query(case, case.n, u, rng.f32())
+                query(case, materials.table[i], case.n, u, rng.f32())
             })
             .collect();
-        let answers = run(&gpu, &queries);
+        let answers = run(&gpu, &materials, &queries);
         let samples: Vec<Sample> = answers.iter().map(Answer::sample).collect();
         let p = chi2_p_value(case, &samples);
         report += &format!("{}: p {p:.3e}\n", case.name);
@@ -273,21 +341,23 @@ fn a_lambert_only_scene_keeps_lambert_and_specialises_the_rest_away() {
     let gpu = gpu();
     let mut rng = Rng::new(99);
     let all = cases(false);
+    let materials = materials(&all);
     let queries: Vec<Query> = all
         .iter()
-        .flat_map(|case| {
+        .enumerate()
+        .flat_map(|(c, case)| {
             (0..20)
                 .map(|_| {
                     let wi = rng.sphere();
                     let u = rng.vec2();
-                    query(case, wi, u, rng.f32())
+                    query(case, materials.table[c], wi, u, rng.f32())
                 })
                 .collect::<Vec<_>>()
         })
         .collect();
     let lambert_only = 1u32 << passgraph::scene::MATERIAL_LAMBERT;
-    let every = run(&gpu, &queries);
-    let specialised = run_with_kinds(&gpu, &queries, Some(lambert_only));
+    let every = run(&gpu, &materials, &queries);
+    let specialised = run_with_kinds(&gpu, &materials, &queries, Some(lambert_only));
     for (i, (a, b)) in every.iter().zip(&specialised).enumerate() {
         let case = &all[i / 20];
         if case.bsdf.kind == passgraph::scene::MATERIAL_LAMBERT {

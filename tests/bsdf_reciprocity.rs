@@ -1,7 +1,10 @@
 //! Reciprocity of the BSDF library's models (src/bsdf, the CPU twin of shaders/lib/bsdf*.wgsl):
 //! f(wo, wi) = f(wi, wo), f = eval / |n.wi|. All five models are reciprocal as Mitsuba 3 writes
 //! them: Lambert and Phong (n.h is symmetric), GGX reflection (D G / (4 cos cos) and F at
-//! wi.m = wo.m), plastic ((1 - F(wo)) (1 - F(wi)) is symmetric). The dielectric's transmission
+//! wi.m = wo.m), plastic ((1 - F(wo)) (1 - F(wi)) is symmetric), and rough plastic as Mitsuba 3's
+//! roughplastic writes it (its specular lobe is GGX reflection; its diffuse lobe is
+//! t(cos_o) t(cos_i) kd / (pi eta^2 (1 - internal reflectance)), symmetric in the two
+//! directions, the same table read at each). The dielectric's transmission
 //! in radiance transport obeys the generalised form f(wo, wi) / eta_wo^2 = f(wi, wo) / eta_wi^2,
 //! eta the absolute index on each direction's side.
 

@@ -57,7 +57,8 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 map_ks,
                 map_pr,
                 map_d,
-                opacity
+                opacity,
+                table
             }),
         ),
         (

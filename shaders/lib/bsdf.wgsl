@@ -1,8 +1,9 @@
 // The BSDF library: one material's scattering at a shading point, dispatched on its kind.
 // Each kind's code sits behind scene_has_kind, so a scene's shaders hold only its models.
 //
-// The including shader includes lib/scene.wgsl and lib/sampling.wgsl first; this file brings
-// the models' own files.
+// The including shader includes lib/scene.wgsl and lib/sampling.wgsl first and declares the
+// scene.materials texel view as the global `materials` (rough plastic reads its tables there:
+// bsdf_plastic.wgsl); this file brings the models' own files.
 //
 // Conventions: directions are world-space unit vectors, wo toward the viewer, wi toward the
 // light; n is the shading normal turned to wo's side; `outside` says whether wo is on the
@@ -30,6 +31,9 @@ struct Bsdf {
     alpha: f32,
     ior: f32,
     tf: vec3<f32>,
+    // The texel index in `materials` of the rough plastic's tables, or NO_TABLE (every other
+    // model, smooth plastic).
+    table: u32,
 }
 
 struct BsdfSample {
@@ -40,7 +44,7 @@ struct BsdfSample {
 }
 
 fn bsdf_from_material(m: Material) -> Bsdf {
-    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf);
+    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf, m.table);
 }
 
 // The world-to-local rotation: local = v * frame (rows of the transpose are the axes).

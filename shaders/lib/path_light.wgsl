@@ -21,16 +21,24 @@ fn bounce_path(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, u: vec2<f32
 // The light leaving the first bounce's hit x back along -dir (x ends a path's second segment)
 // by every path of 3 to scene_max_depth segments through it, emission at x itself excluded.
 fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -> vec3<f32> {
+    // Paths of 3 segments that end with a light sample from the first bounce's hit: the seed's
+    // whole indirect channel. Peeled off the loop below: with max_depth 3 and light sampling
+    // alone (a Lambertian scene) nothing else is traced, and straight-line code is 4 % faster
+    // on lavapipe than one pass through the loop (docs/benchmark-history.md).
+    var sum = direct_light(first, -first_dir, source, DIM_BOUNCE_SELECT, DIM_BOUNCE_LIGHT);
+    if scene_max_depth == 3u && !samples_bsdf_for_light(first) {
+        return sum;
+    }
     var x = first;
     var dir = first_dir;
     var throughput = vec3<f32>(1.0);
-    var sum = vec3<f32>(0.0);
     for (var depth = 3u; depth <= scene_max_depth; depth++) {
-        // Paths of `depth` segments end at a light seen from x: sampled on the light...
+        // Paths of `depth` segments end at a light seen from x: sampled on the light (done
+        // above for depth 3)...
         let wo = -dir;
-        let dim_select = select(path_dim(depth, PATH_DIM_SELECT), DIM_BOUNCE_SELECT, depth == 3u);
-        let dim_light = select(path_dim(depth, PATH_DIM_LIGHT), DIM_BOUNCE_LIGHT, depth == 3u);
-        sum += throughput * direct_light(x, wo, source, dim_select, dim_light);
+        if depth > 3u {
+            sum += throughput * direct_light(x, wo, source, path_dim(depth, PATH_DIM_SELECT), path_dim(depth, PATH_DIM_LIGHT));
+        }
         // ... or met by a BSDF sample, which also goes on to longer paths.
         if depth == scene_max_depth && !samples_bsdf_for_light(x) {
             break;

@@ -54,6 +54,9 @@ struct Material {
     map_pr: u32,
     map_d: u32,
     opacity: f32,
+    // The texel index in this view of the model's table (rough plastic's: bsdf_plastic.wgsl),
+    // or NO_TABLE.
+    table: u32,
 }
 
 // A triangle's shading data in scene.shading (BVH order, 4 texels): corner normals n0..n2 and
@@ -78,6 +81,7 @@ const MATERIAL_CONDUCTOR: u32 = 2u;
 const MATERIAL_PLASTIC: u32 = 3u;
 const MATERIAL_DIELECTRIC: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
+const NO_TABLE: u32 = 0xffffffffu;
 const NO_LIGHT: u32 = 0xffffffffu;
 
 // A light (src/scene/lights.rs): the points p0 + a e1 + b e2 with a, b >= 0 and a + b <= 1 (a
@@ -187,7 +191,7 @@ fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Materia
     let f = scene_texel(view, 6u * i + 5u);
     return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), b.w,
                     bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
-                    bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x));
+                    bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y);
 }
 
 // Only the emitted radiance of material i (what light sampling needs).

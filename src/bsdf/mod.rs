@@ -14,13 +14,16 @@ pub mod ggx;
 pub mod lambert;
 pub mod phong;
 pub mod plastic;
+pub mod plastic_tables;
 
 use crate::scene::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
     Material,
 };
+use crate::scene::material_tables::NO_TABLE;
 use frame::{basis, to_local};
 use glam::{Vec2, Vec3};
+use plastic_tables::{PlasticTable, TABLE_TEXELS};
 
 /// A material at one shading point, textures applied (`Bsdf` in bsdf.wgsl).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,11 +36,21 @@ pub struct Bsdf {
     pub alpha: f32,
     pub ior: f32,
     pub tf: Vec3,
+    /// The rough plastic's tables (bsdf.wgsl holds their texel index in the materials view,
+    /// `table`); `None` for every other model and for smooth plastic.
+    pub table: Option<PlasticTable>,
 }
 
 impl Bsdf {
-    pub fn from_material(m: &Material) -> Bsdf {
+    /// `m` from a materials view's texels (`texels`, as `SceneGpu::materials_texels` lays them
+    /// out), its table read where `m.table` points as the GPU reads it.
+    pub fn from_material(m: &Material, texels: &[[f32; 4]]) -> Bsdf {
+        let table = (m.table != NO_TABLE).then(|| {
+            let start = m.table as usize;
+            PlasticTable::from_texels(&texels[start..start + TABLE_TEXELS])
+        });
         Bsdf {
+            table,
             kind: m.kind,
             kd: Vec3::from(m.kd),
             ks: Vec3::from(m.ks),

@@ -1,19 +1,19 @@
-//! Plastic (`shaders/lib/bsdf_plastic.wgsl`): a diffuse base kd under a smooth dielectric coat of
-//! index ior (outside 1) tinted ks, as Mitsuba 3's plastic with nonlinear false, two-sided.
-//! Local frame: normal +z, wo.z >= 0.
-//!
-//! alpha is ignored: a rough plastic (Mitsuba's roughplastic) needs per-material tables (the
-//! coat's transmittance over cos theta and its internal reflectance) that Material does not
-//! carry yet, so every plastic is the smooth one.
+//! Plastic (`shaders/lib/bsdf_plastic.wgsl`): a diffuse base kd under a dielectric coat of
+//! index ior (outside 1) tinted ks, as Mitsuba 3's plastic (smooth: no table) and roughplastic
+//! (GGX, alpha > 0, with the coat's tables: src/bsdf/plastic_tables.rs), both with nonlinear
+//! false, two-sided. Local frame: normal +z, wo.z >= 0.
 
 use super::frame::sample_cosine;
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
+use super::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_sample_visible};
+use super::plastic_tables::PlasticTable;
 use super::{Bsdf, Sample};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
-/// The probability of sampling the coat's delta reflection, from the reflectance at wo
-/// (`f_i`): Mitsuba's weights, with the tints' means at this point.
+/// The probability of sampling the coat's reflection, from the fraction of light at wo the coat
+/// reflects (`f_i`: F for the smooth coat, 1 - transmittance for the rough one): Mitsuba's
+/// weights, with the tints' means at this point.
 pub fn specular_probability(b: &Bsdf, f_i: f32) -> f32 {
     let s_mean = (b.ks.x + b.ks.y + b.ks.z) / 3.0;
     let d_mean = (b.kd.x + b.kd.y + b.kd.z) / 3.0;
@@ -44,6 +44,9 @@ fn diffuse(b: &Bsdf, cos_o: f32, cos_i: f32) -> Vec3 {
 }
 
 pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3) -> Vec3 {
+    if let Some(t) = &b.table {
+        return rough_eval(b, t, wo, wi);
+    }
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return Vec3::ZERO;
     }
@@ -51,6 +54,9 @@ pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3) -> Vec3 {
 }
 
 pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3) -> f32 {
+    if let Some(t) = &b.table {
+        return rough_pdf(b, t, wo, wi);
+    }
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
@@ -61,6 +67,9 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3) -> f32 {
 /// `u_lobe` below the specular probability picks the coat's reflection (delta; pdf is that
 /// probability), otherwise the base by the cosine.
 pub fn sample(b: &Bsdf, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
+    if let Some(t) = &b.table {
+        return rough_sample(b, t, wo, u, u_lobe);
+    }
     if wo.z <= 0.0 {
         return Sample::failed(Vec3::Z);
     }
@@ -82,6 +91,69 @@ pub fn sample(b: &Bsdf, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
     Sample {
         wi,
         weight: diffuse(b, wo.z, wi.z) / pdf,
+        pdf,
+        delta: false,
+    }
+}
+
+/// The rough coat's diffuse part: kd / (1 - internal reflectance), the coat's transmittance
+/// both ways (from the table), the 1 / eta^2 of entering and leaving, and the cosine.
+fn rough_diffuse(b: &Bsdf, t: &PlasticTable, cos_o: f32, cos_i: f32) -> Vec3 {
+    let t_o = t.transmittance_at(cos_o);
+    let t_i = t.transmittance_at(cos_i);
+    let scale = (1.0 / PI) * (1.0 / (b.ior * b.ior)) * cos_i * t_o * t_i;
+    b.kd / (1.0 - t.internal_reflectance) * scale
+}
+
+/// The rough coat's specular part: ks F D G / (4 cos_o) (f times cos_i).
+fn rough_specular(b: &Bsdf, wo: Vec3, wi: Vec3) -> Vec3 {
+    let a = ggx_alpha(b.alpha);
+    let m = (wo + wi).normalize();
+    let d = ggx_d(a, m);
+    let f = fresnel_dielectric(wo.dot(m), b.ior).r;
+    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
+    b.ks * (f * d * g / (4.0 * wo.z))
+}
+
+fn rough_eval(b: &Bsdf, t: &PlasticTable, wo: Vec3, wi: Vec3) -> Vec3 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return Vec3::ZERO;
+    }
+    rough_specular(b, wo, wi) + rough_diffuse(b, t, wo.z, wi.z)
+}
+
+fn rough_pdf(b: &Bsdf, t: &PlasticTable, wo: Vec3, wi: Vec3) -> f32 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    let p_s = specular_probability(b, 1.0 - t.transmittance_at(wo.z));
+    let a = ggx_alpha(b.alpha);
+    let m = (wo + wi).normalize();
+    // The visible-normal density times the reflection Jacobian 1 / (4 wo.m).
+    let specular = ggx_d(a, m) * ggx_g1(a, wo, m) / (4.0 * wo.z);
+    p_s * specular + (1.0 - p_s) * (wi.z / PI)
+}
+
+/// `u_lobe` below the specular probability reflects wo about a visible GGX normal, otherwise
+/// the base is sampled by the cosine; either way the pdf is the mixture's.
+fn rough_sample(b: &Bsdf, t: &PlasticTable, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
+    if wo.z <= 0.0 {
+        return Sample::failed(Vec3::Z);
+    }
+    let p_s = specular_probability(b, 1.0 - t.transmittance_at(wo.z));
+    let wi = if u_lobe < p_s {
+        let m = ggx_sample_visible(ggx_alpha(b.alpha), wo, u);
+        2.0 * wo.dot(m) * m - wo
+    } else {
+        sample_cosine(Vec3::Z, u.x, u.y)
+    };
+    let pdf = rough_pdf(b, t, wo, wi);
+    if wi.z <= 0.0 || pdf <= 0.0 {
+        return Sample::failed(wi);
+    }
+    Sample {
+        wi,
+        weight: rough_eval(b, t, wo, wi) / pdf,
         pdf,
         delta: false,
     }

@@ -53,8 +53,8 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: "scene.materials",
         kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file (96 bytes each: src/scene/gpu.rs)",
-        bytes: |i| bytemuck::cast_slice(&i.gpu.materials).to_vec(),
+        what: "materials from the MTL file (96 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
+        bytes: |i| crate::scene::materials_bytes(&i.gpu.materials),
     },
     Resource {
         name: "scene.lights",

@@ -59,7 +59,10 @@ pub struct Material {
     pub map_d: u32,
     /// MTL `d`: 1 opaque; below 1 the fraction of light the surface stops.
     pub opacity: f32,
-    pub pad: [u32; 3],
+    /// The texel index in `scene.materials` of the model's table (rough plastic's), or
+    /// `NO_TABLE`: src/scene/material_tables.rs sets it.
+    pub table: u32,
+    pub pad: [u32; 2],
 }
 
 /// A triangle's shading data (`scene.shading`, in BVH order, 4 texels): corner normals
@@ -206,7 +209,8 @@ impl Material {
             map_pr: NO_TEXTURE,
             map_d: NO_TEXTURE,
             opacity: 1.0,
-            pad: [0; 3],
+            table: super::material_tables::NO_TABLE,
+            pad: [0; 2],
         }
     }
 

@@ -13,6 +13,7 @@ pub mod gpu;
 pub mod hull;
 pub mod intersect;
 pub mod lights;
+pub mod material_tables;
 pub mod mesh;
 pub mod mitsuba;
 mod obj;
@@ -30,4 +31,5 @@ pub use gpu::{
     PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
+pub use material_tables::{NO_TABLE, materials_bytes};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};

@@ -8,6 +8,7 @@ use chi2::chi2_test;
 use glam::{Vec2, Vec3};
 use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
+use passgraph::bsdf::plastic_tables::PlasticTable;
 use passgraph::bsdf::{Bsdf, Sample, pdf};
 use passgraph::scene::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
@@ -69,7 +70,9 @@ pub fn incident(n: Vec3, cos_o: f32) -> Vec3 {
     (basis(n) * Vec3::new(s * 0.7f32.cos(), s * 0.7f32.sin(), cos_o)).normalize()
 }
 
+/// A material's Bsdf; a rough plastic gets its tables as scene loading computes them.
 pub fn bsdf(kind: u32, kd: Vec3, ks: Vec3, ns: f32, alpha: f32, ior: f32, tf: Vec3) -> Bsdf {
+    let rough_plastic = kind == MATERIAL_PLASTIC && alpha > 0.0;
     Bsdf {
         kind,
         kd,
@@ -78,6 +81,7 @@ pub fn bsdf(kind: u32, kd: Vec3, ks: Vec3, ns: f32, alpha: f32, ior: f32, tf: Ve
         alpha,
         ior,
         tf,
+        table: rough_plastic.then(|| PlasticTable::compute(alpha, ior)),
     }
 }
 
@@ -126,6 +130,16 @@ pub fn materials(white: bool) -> Vec<(String, Bsdf, bool)> {
     }
     let b = bsdf(MATERIAL_PLASTIC, kd, ks, 0.0, 0.0, 1.5, Vec3::ZERO);
     out.push(("plastic".to_string(), b, true));
+    // Rough plastic (Mitsuba 3's roughplastic) at each roughness, and water's index once.
+    for (alpha, ior) in [
+        (ROUGHNESS[0], 1.5),
+        (ROUGHNESS[1], 1.5),
+        (ROUGHNESS[2], 1.5),
+        (0.1, 1.33),
+    ] {
+        let b = bsdf(MATERIAL_PLASTIC, kd, ks, 0.0, alpha, ior, Vec3::ZERO);
+        out.push((format!("rough plastic alpha {alpha} ior {ior}"), b, true));
+    }
     for alpha in [0.0, ROUGHNESS[0], ROUGHNESS[1], ROUGHNESS[2]] {
         for outside in [true, false] {
             let b = bsdf(
@@ -322,7 +336,10 @@ pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
         // pow(n.h, ns) multiplies n.h's relative error by ns (and pow's own, exp2 of ns log2).
         return 2e-5 + grazing + b.ns * 8.0 * f32::EPSILON;
     }
-    if !(b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC) || b.alpha == 0.0 {
+    let rough_plastic = b.kind == MATERIAL_PLASTIC && b.table.is_some();
+    if !(b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC || rough_plastic)
+        || b.alpha == 0.0
+    {
         return 2e-5 + grazing;
     }
     let transmits = wi.dot(case.n) < 0.0;

@@ -14,7 +14,7 @@ struct Query {
     // wo and outside (1 or 0).
     wo_outside: vec4<f32>,
     wi: vec4<f32>,
-    // u.xy, u_lobe.
+    // u.xy, u_lobe, and the rough plastic's table index in `materials` (its bits).
     u: vec4<f32>,
 }
 
@@ -29,6 +29,8 @@ struct Answer {
 
 @group(0) @binding(0) var<storage, read> queries: array<Query>;
 @group(0) @binding(1) var<storage, read_write> answers: array<Answer>;
+// Rough plastic's tables, as scene.materials holds them after the materials.
+@group(0) @binding(2) var materials: texture_storage_2d<rgba32uint, read>;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -38,7 +40,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let q = queries[i];
     let b = Bsdf(bitcast<u32>(q.kd_kind.w), q.kd_kind.xyz, q.ks_ns.xyz, q.ks_ns.w, q.n_alpha.w,
-        q.tf_ior.w, q.tf_ior.xyz);
+        q.tf_ior.w, q.tf_ior.xyz, bitcast<u32>(q.u.w));
     let n = q.n_alpha.xyz;
     let outside = q.wo_outside.w != 0.0;
     let wo = q.wo_outside.xyz;

@@ -1,0 +1,94 @@
+//! The `scene.materials` resource's contents: the materials' 96-byte records, then the texels
+//! (16 bytes each) of the tables their models need, each material's `table` the texel index of
+//! its own. Today only rough plastic has one (src/bsdf/plastic_tables.rs: Mitsuba 3's
+//! roughplastic precomputes the same per material); materials with equal (alpha, ior) share it.
+
+use super::gpu::{MATERIAL_PLASTIC, Material};
+use crate::bsdf::plastic_tables::PlasticTable;
+use std::collections::HashMap;
+
+/// A material's `table` when its model needs none.
+pub const NO_TABLE: u32 = u32::MAX;
+
+/// Texels (16 bytes) a material record takes.
+const MATERIAL_TEXELS: usize = size_of::<Material>() / 16;
+
+/// Whether `m`'s model reads a table: plastic with a rough coat.
+pub fn needs_table(m: &Material) -> bool {
+    m.kind == MATERIAL_PLASTIC && m.alpha > 0.0
+}
+
+/// The materials with `table` set, and the view's texels: the records' then the tables'.
+pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>) {
+    let mut out = materials.to_vec();
+    let mut texels: Vec<[f32; 4]> = Vec::new();
+    let mut tables: Vec<[f32; 4]> = Vec::new();
+    let mut shared: HashMap<(u32, u32), u32> = HashMap::new();
+    let start = materials.len() * MATERIAL_TEXELS;
+    for m in &mut out {
+        m.table = NO_TABLE;
+        if !needs_table(m) {
+            continue;
+        }
+        m.table = *shared
+            .entry((m.alpha.to_bits(), m.ior.to_bits()))
+            .or_insert_with(|| {
+                let index = (start + tables.len()) as u32;
+                tables.extend(PlasticTable::compute(m.alpha, m.ior).texels());
+                index
+            });
+    }
+    for m in &out {
+        texels.extend(bytemuck::cast_slice::<Material, [f32; 4]>(
+            std::slice::from_ref(m),
+        ));
+    }
+    texels.extend(tables);
+    (out, texels)
+}
+
+/// The `scene.materials` bytes.
+pub fn materials_bytes(materials: &[Material]) -> Vec<u8> {
+    bytemuck::cast_slice(&materials_texels(materials).1).to_vec()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::plastic_tables::TABLE_TEXELS;
+
+    fn plastic(alpha: f32, ior: f32) -> Material {
+        Material {
+            kind: MATERIAL_PLASTIC,
+            alpha,
+            ior,
+            ..Material::DEFAULT
+        }
+    }
+
+    /// Fails when a table is placed where `table` does not point, is duplicated for equal
+    /// parameters, or is given to a model that reads none.
+    #[test]
+    fn tables_follow_the_materials_shared_by_equal_parameters() {
+        let ms = [
+            Material::DEFAULT,
+            plastic(0.3, 1.5),
+            plastic(0.0, 1.5),
+            plastic(0.3, 1.5),
+            plastic(0.1, 1.33),
+        ];
+        let (out, texels) = materials_texels(&ms);
+        assert_eq!(out[0].table, NO_TABLE);
+        assert_eq!(out[2].table, NO_TABLE);
+        assert_eq!(out[1].table, (ms.len() * MATERIAL_TEXELS) as u32);
+        assert_eq!(out[3].table, out[1].table);
+        assert_eq!(out[4].table, out[1].table + TABLE_TEXELS as u32);
+        assert_eq!(texels.len(), ms.len() * MATERIAL_TEXELS + 2 * TABLE_TEXELS);
+        let read =
+            |m: &Material| PlasticTable::from_texels(&texels[m.table as usize..][..TABLE_TEXELS]);
+        assert_eq!(read(&out[1]), PlasticTable::compute(0.3, 1.5));
+        assert_eq!(read(&out[4]), PlasticTable::compute(0.1, 1.33));
+        let records: &[Material] = bytemuck::cast_slice(&texels[..ms.len() * MATERIAL_TEXELS]);
+        assert_eq!(records, &out[..]);
+    }
+}
