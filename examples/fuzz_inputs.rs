@@ -1,6 +1,7 @@
 //! A bounded mutation fuzzer over the shipped inputs (CI's fuzz step, see .ci/run): graphs
 //! (which extend and include each other), graph tests, pass files, shaders and their includes, scenes, OBJ/MTL and PLY meshes (ASCII and binary),
-//! camera paths and viewer scripts. Each case mutates one file of a fresh scratch copy, then
+//! camera paths and viewer scripts; a textured scene (PBR, glass and cut-out MTL keys, PNG
+//! maps, vt/vn, max_depth). Each case mutates one file of a fresh scratch copy, then
 //! runs what `check` and the loaders run (no GPU): load and compile the graph, check the render
 //! contract, print the plan and dot; load the scene and build its BVH and GPU layout; parse the
 //! camera path and the script. Errors are the expected outcome; a panic, a crash (signal) or a
@@ -113,6 +114,22 @@ const TOKENS: &[&[u8]] = &[
     b"Ke ",
     b"Kd ",
     b"Ns ",
+    b"Pm ",
+    b"Pr ",
+    b"Ni ",
+    b"Tf ",
+    b"d ",
+    b"illum 7",
+    b"map_Kd ",
+    b"map_Ks ",
+    b"map_Pr ",
+    b"map_d ",
+    b"map_Bump ",
+    b"-s 1 1 1 ",
+    b"tex.png",
+    b"max_depth: ",
+    b"IHDR",
+    b"IDAT",
     b"element vertex ",
     b"element face ",
     b"property list uchar int vertex_indices\n",
@@ -218,6 +235,46 @@ end_header\n"
     out
 }
 
+/// A 3 x 2 RGBA PNG (the textured scene's maps).
+fn png() -> Vec<u8> {
+    let pixels: Vec<u8> = (0..24).map(|i| (i * 37 % 256) as u8).collect();
+    let image = image::RgbaImage::from_raw(3, 2, pixels).unwrap();
+    let mut bytes = Vec::new();
+    image
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+    bytes
+}
+
+/// A scene with every MTL key and OBJ statement issue 14 reads: PBR, glass, cut-outs, maps,
+/// texture coordinates, normals, max_depth.
+fn textured_scene(extra: &Path, camera: &str) {
+    std::fs::write(extra.join("tex.png"), png()).unwrap();
+    std::fs::write(
+        extra.join("tex.mtl"),
+        "newmtl metal\nPm 1\nPr 0.3\nKd 0.9 0.6 0.2\nmap_Kd tex.png\n\
+         newmtl plastic\nPm 0\nPr 0.1\nKd 0.2 0.3 0.8\nKs 1 1 1\nNi 1.5\nmap_Pr tex.png\n\
+         newmtl glass\nillum 7\nNi 1.33\nTf 0.9 1 1\nNs 900\n\
+         newmtl leaf\nKd 0.2 0.8 0.2\nd 0.5\nmap_d tex.png\nmap_Ks tex.png\nKe 1 1 1\n",
+    )
+    .unwrap();
+    std::fs::write(
+        extra.join("tex.obj"),
+        "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\n\
+         vn 0 0 -1\nvn 0.1 0 -1\nvn 0 0 0\nusemtl metal\nf 1/1/1 2/2/2 3/3/2\n\
+         usemtl plastic\nf 1/1 3/3 4/4\nusemtl glass\nf 1//1 2//3 4//1\nusemtl leaf\nf -4/-4/-3 -3/-3/-2 -1/-1/-1\n",
+    )
+    .unwrap();
+    std::fs::write(
+        extra.join("tex.ron"),
+        format!("Scene(mesh: \"tex.obj\", {camera}, max_depth: 8)\n"),
+    )
+    .unwrap();
+}
+
 /// The scratch project: graphs, passes, shaders and scenes as shipped, plus inputs made here.
 fn lay_out(root: &Path, dir: &Path) {
     for sub in ["graphs", "passes", "shaders", "scenes", "tests/graphs"] {
@@ -244,6 +301,7 @@ fn lay_out(root: &Path, dir: &Path) {
         )
         .unwrap();
     }
+    textured_scene(&extra, camera);
     std::fs::write(
         extra.join("path.ron"),
         "CameraPath([\n    (frames: 4),\n    (frames: 2, eye: (1, 2, 3), fov_y: 30),\n])\n",
@@ -316,6 +374,11 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
                 let gpu = scene.to_gpu();
                 let _ = scene.camera.to_gpu(64, 48);
                 let _ = gpu.triangles.len();
+                let _ = (gpu.shading_bytes(), gpu.textures_bytes());
+                // The Mitsuba exporter's per-material XML (the files it writes are plain text).
+                for i in 0..scene.mesh.materials.len() {
+                    let _ = passgraph::scene::mitsuba::bsdf_xml(&scene, i as u32);
+                }
             }
         }
         Target::CameraPath => {
@@ -378,6 +441,11 @@ fn main() {
         .unwrap();
     let pristine = base.path().join("pristine");
     lay_out(root, &pristine);
+    // Mutations of an input that does not load would test only its first error.
+    if let Err(e) = passgraph::scene::load_scene(&pristine.join("scenes/extra/tex.ron")) {
+        eprintln!("fuzz_inputs: the textured scene does not load: {e}");
+        std::process::exit(1);
+    }
     let mut inputs = Vec::new();
     files(&pristine, &mut inputs);
     // The reference image is data the graph tests read, not an input to mutate.
@@ -472,8 +540,11 @@ fn main() {
         let scene = if name.ends_with("scene.ron")
             || name.ends_with("ply.ron")
             || name.ends_with("binary.ron")
+            || name.ends_with("tex.ron")
         {
             case_dir.join(&rel)
+        } else if name.contains("/tex.") {
+            scene_dir.join("tex.ron")
         } else if name.ends_with("binary.ply") {
             scene_dir.join("binary.ron")
         } else if name.ends_with(".ply") {

@@ -72,6 +72,21 @@ enum Command {
         #[arg(long)]
         adapter: Option<String>,
     },
+    /// Write the scene for Mitsuba 3: DIR/scene.xml (parameters $spp, $sampler_type,
+    /// $max_depth, $seed with defaults) and one OBJ per material.
+    MitsubaScene {
+        /// The scene file (RON naming a mesh and a camera).
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Image size, WxH.
+        #[arg(long, default_value = "256x256", value_parser = parse_size)]
+        size: [u32; 2],
+        /// Longest path in segments (replaces the scene file's).
+        #[arg(long, value_parser = parse_max_depth)]
+        max_depth: Option<u32>,
+    },
     /// Print the graph in Graphviz dot format.
     Dot {
         #[command(flatten)]
@@ -99,6 +114,9 @@ struct RenderArgs {
     /// The scene file (RON naming a mesh and a camera).
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// Frames to accumulate (one sample per pixel each).
     #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES, value_parser = parse_frames)]
     frames: u32,
@@ -139,6 +157,9 @@ struct ViewArgs {
     graph: PathBuf,
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// Image size, WxH; the window starts at twice this.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     size: [u32; 2],
@@ -161,6 +182,9 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
+    #[arg(long, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// A graph variant (repeatable): [LABEL=]GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...];
     /// @CHANNEL compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
     /// :SETs override params for this variant only (see src/bench/variant.rs).
@@ -326,6 +350,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
             adapter: args.adapter.clone(),
             max_frames: u32::MAX,
             keep: Keep::Outputs,
+            max_depth: args.max_depth,
         };
         eprintln!("bench {label} ...");
         let r =
@@ -458,6 +483,7 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
             args.frames
         },
         keep: Keep::Outputs,
+        max_depth: args.max_depth,
     };
     let mut session = Session::for_render(&settings, &args.channel).map_err(|e| e.to_string())?;
     let segments = match &args.camera_path {
@@ -473,7 +499,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     let scene_bytes = size_of_val(scene.triangles.as_slice())
         + size_of_val(scene.materials.as_slice())
         + size_of_val(scene.lights.as_slice())
-        + scene.bvh_bytes().len();
+        + scene.bvh_bytes().len()
+        + scene.shading_bytes().len()
+        + scene.textures_bytes().len();
     eprintln!("adapter: {}", passgraph::gpu::context::describe(info));
     eprintln!(
         "scene: {} triangles ({} degenerate), {} lights; BVH {} nodes, depth {}, built in {:.1} ms; {} bytes on the GPU ({:.1} per triangle)",
@@ -487,8 +515,8 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         scene_bytes as f64 / bvh.triangle_count.max(1) as f64
     );
     eprintln!(
-        "specialised: scene_light_count={}, scene_has_specular={}",
-        scene.light_count, scene.has_specular
+        "specialised: scene_light_count={}, scene_has_specular={}, scene_max_depth={}",
+        scene.light_count, scene.has_specular, scene.max_depth
     );
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
@@ -570,6 +598,15 @@ fn parse_frames(s: &str) -> Result<u32, String> {
     }
 }
 
+/// A path length of at least one segment (Mitsuba's max_depth).
+fn parse_max_depth(s: &str) -> Result<u32, String> {
+    let depth: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    passgraph::scene::check_max_depth(depth)
+}
+
 /// A finite, positive time budget: NaN or infinity would never be reached.
 fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -619,6 +656,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
                 // Any texture the graph computes can be shown.
                 keep: Keep::EveryTexture,
+                max_depth: a.max_depth,
             },
             window_scale: 2,
             script: a.script,
@@ -668,6 +706,24 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     }
                 )));
             }
+        }
+        Command::MitsubaScene {
+            scene,
+            out,
+            size,
+            max_depth,
+        } => {
+            let scene = passgraph::scene::load_scene(&scene).map_err(|e| e.to_string())?;
+            for warning in &scene.mesh.warnings {
+                eprintln!("warning: {warning}");
+            }
+            let options = passgraph::scene::mitsuba::ExportOptions { size, max_depth };
+            let written = passgraph::scene::mitsuba::export(&scene, &out, &options)?;
+            println!(
+                "wrote {} ({} meshes)",
+                out.join("scene.xml").display(),
+                written.len() - 1
+            );
         }
         Command::Dot { graph, out } => {
             let dot = to_dot(&plan(&graph)?);

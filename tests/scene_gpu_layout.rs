@@ -5,7 +5,9 @@
 mod common;
 
 use common::root;
-use passgraph::scene::{Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, Triangle};
+use passgraph::scene::{
+    Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, Triangle, TriangleShading,
+};
 use std::mem::{offset_of, size_of};
 
 /// (field name, byte offset, byte size) of each Rust field, in declaration order.
@@ -57,6 +59,20 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 map_d,
                 opacity,
                 table
+            }),
+        ),
+        (
+            "TriangleShading",
+            size_of::<TriangleShading>(),
+            fields!(TriangleShading {
+                n0,
+                u0,
+                n1,
+                v0,
+                n2,
+                flags,
+                uv1,
+                uv2
             }),
         ),
         (

@@ -14,6 +14,13 @@ override scene_material_kinds: u32 = 0xffffffffu;
 // The longest path in segments, as Mitsuba's max_depth: 1 emitters seen, 2 direct light,
 // 3 one bounce (the seed's model), ...
 override scene_max_depth: u32 = 3u;
+// Whether a triangle has shading normals / texture coordinates in scene.shading
+// (lib/shading.wgsl), whether a used material has a texture map (lib/texture.wgsl), and
+// whether one can be cut out (opacity < 1 or map_d).
+override scene_has_shading_normals: bool = true;
+override scene_has_uvs: bool = true;
+override scene_has_textures: bool = true;
+override scene_has_cutouts: bool = true;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
@@ -51,6 +58,22 @@ struct Material {
     // or NO_TABLE.
     table: u32,
 }
+
+// A triangle's shading data in scene.shading (BVH order, 4 texels): corner normals n0..n2 and
+// texture coordinates (u0, v0), uv1, uv2; flags: SHADING_HAS_NORMALS | SHADING_HAS_UVS.
+struct TriangleShading {
+    n0: vec3<f32>,
+    u0: f32,
+    n1: vec3<f32>,
+    v0: f32,
+    n2: vec3<f32>,
+    flags: u32,
+    uv1: vec2<f32>,
+    uv2: vec2<f32>,
+}
+
+const SHADING_HAS_NORMALS: u32 = 1u;
+const SHADING_HAS_UVS: u32 = 2u;
 
 const MATERIAL_LAMBERT: u32 = 0u;
 const MATERIAL_PHONG: u32 = 1u;

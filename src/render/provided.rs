@@ -69,6 +69,18 @@ const RESOURCES: &[Resource] = &[
         bytes: |i| bytemuck::cast_slice(&i.gpu.light_power).to_vec(),
     },
     Resource {
+        name: "scene.shading",
+        kind: ProvidedKind::StorageBuffer,
+        what: "per triangle in BVH order: corner normals and uvs (64 bytes each: TriangleShading in src/scene/gpu.rs); one zero texel when no triangle has either",
+        bytes: |i| i.gpu.shading_bytes(),
+    },
+    Resource {
+        name: "scene.textures",
+        kind: ProvidedKind::StorageBuffer,
+        what: "every texture as linear RGBA f32 texels after one header texel each (first texel, width, height: src/scene/texture.rs); one zero texel when there are none",
+        bytes: |i| i.gpu.textures_bytes(),
+    },
+    Resource {
         name: "scene.bvh",
         kind: ProvidedKind::StorageBuffer,
         what: "threaded BVH: the box grid, then one 16-byte node each",
@@ -136,6 +148,30 @@ const OVERRIDES: &[Override] = &[
         ty: ParamType::U32,
         what: "longest path in segments, as Mitsuba's max_depth (3: direct light and one bounce)",
         value: |gpu| f64::from(gpu.max_depth),
+    },
+    Override {
+        name: "scene_has_shading_normals",
+        ty: ParamType::Bool,
+        what: "whether a triangle has shading normals (OBJ vn) in scene.shading",
+        value: |gpu| if gpu.has_shading_normals { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_uvs",
+        ty: ParamType::Bool,
+        what: "whether a triangle has texture coordinates (OBJ vt) in scene.shading",
+        value: |gpu| if gpu.has_uvs { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_textures",
+        ty: ParamType::Bool,
+        what: "whether a used material has a texture map (map_Kd, map_Ks, map_Pr, map_d)",
+        value: |gpu| if gpu.has_textures { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_cutouts",
+        ty: ParamType::Bool,
+        what: "whether a used material is cut out (opacity d < 1 or map_d)",
+        value: |gpu| if gpu.has_cutouts { 1.0 } else { 0.0 },
     },
 ];
 

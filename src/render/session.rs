@@ -47,6 +47,8 @@ pub struct RenderSettings {
     pub max_frames: u32,
     /// Which graph textures keep their content after each frame, to be read back and shown.
     pub keep: Keep,
+    /// Replaces the scene file's `max_depth` (the command line's `--max-depth`).
+    pub max_depth: Option<u32>,
 }
 
 /// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
@@ -80,6 +82,7 @@ impl RenderSettings {
             adapter: None,
             max_frames: Self::DEFAULT_MAX_FRAMES,
             keep: Keep::Outputs,
+            max_depth: None,
         }
     }
 }
@@ -192,7 +195,10 @@ impl Session {
         if let Some(channel) = shown {
             check_render_contract(&plan, channel)?;
         }
-        let scene = load_scene(&settings.scene)?;
+        let mut scene = load_scene(&settings.scene)?;
+        if let Some(depth) = settings.max_depth {
+            scene.max_depth = depth;
+        }
         let gpu_scene = scene.to_gpu();
         let ctx = context()?;
         let provided = provided_data(&ProvidedInputs {

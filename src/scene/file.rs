@@ -1,14 +1,17 @@
-//! The scene file (RON): which mesh to load, relative to the scene file, and the camera.
+//! The scene file (RON): which mesh to load, relative to the scene file, the camera and,
+//! optionally, the longest path (Mitsuba's `max_depth`, default 3).
 //!
 //! ```ron
 //! Scene(
 //!     mesh: "cornell.obj",
 //!     camera: Camera(eye: (278, 273, -800), target: (278, 273, 0), up: (0, 1, 0), fov_y: 39.3077),
+//!     max_depth: 8,
 //! )
 //! ```
 
 use super::camera::{CameraDesc, CameraError};
 use super::error::{Location, SceneError};
+use super::gpu::DEFAULT_MAX_DEPTH;
 use super::mesh::{Mesh, load_mesh};
 use glam::Vec3;
 use serde::Deserialize;
@@ -23,6 +26,9 @@ pub struct Scene {
     pub path: PathBuf,
     pub mesh: Mesh,
     pub camera: CameraDesc,
+    /// The longest path in segments, as Mitsuba's `max_depth` (1: emitters seen directly,
+    /// 2: direct light, 3: one bounce, ...); at least 1.
+    pub max_depth: u32,
 }
 
 /// The built-in default scene, relative to the crate root.
@@ -34,6 +40,12 @@ pub const DEFAULT_SCENE: &str = "scenes/cornell/scene.ron";
 struct SceneFile {
     mesh: PathBuf,
     camera: CameraFile,
+    #[serde(default = "default_max_depth")]
+    max_depth: i64,
+}
+
+fn default_max_depth() -> i64 {
+    i64::from(DEFAULT_MAX_DEPTH)
 }
 
 #[derive(Debug, Deserialize)]
@@ -122,13 +134,35 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
             source,
         }
     })?;
+    let max_depth = check_max_depth(file.max_depth).map_err(|message| SceneError::Syntax {
+        at: Location {
+            path: path.to_path_buf(),
+            line: field_line(&text, "max_depth"),
+            item: None,
+        },
+        message,
+    })?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let mesh = load_mesh(&dir.join(&file.mesh))?;
     Ok(Scene {
         path: path.to_path_buf(),
         mesh,
         camera,
+        max_depth,
     })
+}
+
+/// The largest `max_depth`: Mitsuba's is an `int`.
+pub const MAX_MAX_DEPTH: u32 = i32::MAX as u32;
+
+/// A `max_depth` as written (scene file or command line): 1..=[`MAX_MAX_DEPTH`].
+pub fn check_max_depth(depth: i64) -> Result<u32, String> {
+    match u32::try_from(depth) {
+        Ok(d) if (1..=MAX_MAX_DEPTH).contains(&d) => Ok(d),
+        _ => Err(format!(
+            "max_depth must be 1 (emitters seen directly) to {MAX_MAX_DEPTH}, found {depth}"
+        )),
+    }
 }
 
 /// The line of the first `field:` in RON text (serde keeps no positions once parsed). Comments

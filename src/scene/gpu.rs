@@ -10,6 +10,7 @@ use super::hull::hull_faces;
 use super::intersect::{self, Hit, Ray};
 use super::lights::{Light, light_power, scene_lights};
 use super::mesh::Mesh;
+use super::texture::{Texture, textures_bytes};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use std::mem::size_of;
@@ -63,6 +64,25 @@ pub struct Material {
     pub table: u32,
     pub pad: [u32; 2],
 }
+
+/// A triangle's shading data (`scene.shading`, in BVH order, 4 texels): corner normals
+/// `n0..n2` (unit length) and texture coordinates `(u0, v0)`, `uv1`, `uv2`; `flags` says which
+/// the triangle has ([`SHADING_HAS_NORMALS`], [`SHADING_HAS_UVS`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct TriangleShading {
+    pub n0: [f32; 3],
+    pub u0: f32,
+    pub n1: [f32; 3],
+    pub v0: f32,
+    pub n2: [f32; 3],
+    pub flags: u32,
+    pub uv1: [f32; 2],
+    pub uv2: [f32; 2],
+}
+
+pub const SHADING_HAS_NORMALS: u32 = 1;
+pub const SHADING_HAS_UVS: u32 = 2;
 
 /// Material kinds (`Material::kind`); bit `1 << kind` of the `scene_material_kinds` override.
 pub const MATERIAL_LAMBERT: u32 = 0;
@@ -147,6 +167,7 @@ pub struct Frame {
 // WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
 const _: () = assert!(size_of::<Triangle>() == 48);
 const _: () = assert!(size_of::<Material>() == 96);
+const _: () = assert!(size_of::<TriangleShading>() == 64);
 const _: () = assert!(size_of::<GpuBvhGrid>() == 32);
 const _: () = assert!(size_of::<PackedBvhNode>() == 16);
 const _: () = assert!(size_of::<GpuCamera>() == 64);
@@ -214,6 +235,41 @@ impl Default for Material {
     }
 }
 
+/// The materials some triangle uses (each once).
+fn used_materials(triangles: &[Triangle], materials: &[Material]) -> Vec<Material> {
+    let mut used = vec![false; materials.len()];
+    for t in triangles {
+        if let Some(u) = used.get_mut(t.material as usize) {
+            *u = true;
+        }
+    }
+    materials
+        .iter()
+        .zip(used)
+        .filter_map(|(m, u)| u.then_some(*m))
+        .collect()
+}
+
+impl TriangleShading {
+    pub fn new(t: &super::mesh::MeshTriangle) -> TriangleShading {
+        let mut s = TriangleShading::default();
+        if let Some([n0, n1, n2]) = t.normals {
+            s.n0 = n0.into();
+            s.n1 = n1.into();
+            s.n2 = n2.into();
+            s.flags |= SHADING_HAS_NORMALS;
+        }
+        if let Some([uv0, uv1, uv2]) = t.uvs {
+            s.u0 = uv0.x;
+            s.v0 = uv0.y;
+            s.uv1 = uv1.into();
+            s.uv2 = uv2.into();
+            s.flags |= SHADING_HAS_UVS;
+        }
+        s
+    }
+}
+
 impl BvhNode {
     pub fn is_leaf(&self) -> bool {
         self.count > 0
@@ -265,6 +321,19 @@ pub struct SceneGpu {
     pub material_kinds: u32,
     /// The longest path in segments (Mitsuba's `max_depth`): the `scene_max_depth` override.
     pub max_depth: u32,
+    /// Per triangle in `triangles` order: normals and uvs. Empty when no triangle has either
+    /// (`shading_bytes` then gives one dummy texel).
+    pub shading: Vec<TriangleShading>,
+    /// The images materials index (`scene.textures`).
+    pub textures: Vec<Texture>,
+    /// Whether a triangle has shading normals: the `scene_has_shading_normals` override.
+    pub has_shading_normals: bool,
+    /// Whether a triangle has texture coordinates: the `scene_has_uvs` override.
+    pub has_uvs: bool,
+    /// Whether a used material has a texture map: the `scene_has_textures` override.
+    pub has_textures: bool,
+    /// Whether a used material can be cut out (opacity < 1 or `map_d`): `scene_has_cutouts`.
+    pub has_cutouts: bool,
     pub bvh: BvhStats,
 }
 
@@ -301,10 +370,35 @@ impl SceneGpu {
             .iter()
             .filter_map(|t| materials.get(t.material as usize))
             .fold(0, |kinds, m| kinds | 1 << m.kind);
+        let used = used_materials(&triangles, &materials);
+        let has_textures = used.iter().any(|m| {
+            [m.map_kd, m.map_ks, m.map_pr, m.map_d]
+                .iter()
+                .any(|&t| t != NO_TEXTURE)
+        });
+        let has_cutouts = used
+            .iter()
+            .any(|m| m.opacity < 1.0 || m.map_d != NO_TEXTURE);
+        let has_shading_normals = mesh.triangles.iter().any(|t| t.normals.is_some());
+        let has_uvs = mesh.triangles.iter().any(|t| t.uvs.is_some());
+        let shading = if has_shading_normals || has_uvs {
+            bvh.order
+                .iter()
+                .map(|&i| TriangleShading::new(&mesh.triangles[i as usize]))
+                .collect()
+        } else {
+            Vec::new()
+        };
         SceneGpu {
             light_count: lights.len() as u32,
             material_kinds,
             max_depth: DEFAULT_MAX_DEPTH,
+            shading,
+            textures: mesh.textures.clone(),
+            has_shading_normals,
+            has_uvs,
+            has_textures,
+            has_cutouts,
             triangles,
             materials,
             lights,
@@ -316,6 +410,20 @@ impl SceneGpu {
             has_specular,
             bvh: bvh.stats,
         }
+    }
+
+    /// The `scene.shading` buffer (one zero texel when no triangle has normals or uvs).
+    pub fn shading_bytes(&self) -> Vec<u8> {
+        if self.shading.is_empty() {
+            vec![0; 16]
+        } else {
+            bytemuck::cast_slice(&self.shading).to_vec()
+        }
+    }
+
+    /// The `scene.textures` buffer (`texture.rs`).
+    pub fn textures_bytes(&self) -> Vec<u8> {
+        textures_bytes(&self.textures)
     }
 
     /// The `scene.bvh` buffer: the grid, then each node of each octant's copy as one texel.
@@ -355,6 +463,9 @@ impl SceneGpu {
 impl Scene {
     /// The scene's GPU buffers (builds the BVH).
     pub fn to_gpu(&self) -> SceneGpu {
-        SceneGpu::build(&self.mesh)
+        SceneGpu {
+            max_depth: self.max_depth,
+            ..SceneGpu::build(&self.mesh)
+        }
     }
 }

@@ -2,8 +2,9 @@
 
 use super::error::SceneError;
 use super::gpu::Material;
+use super::texture::Texture;
 use super::{obj, ply};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
 /// One triangle in file order; `material` indexes [`Mesh::materials`].
@@ -12,6 +13,22 @@ pub struct MeshTriangle {
     /// Counter-clockwise seen from the front (the emitting side).
     pub vertices: [Vec3; 3],
     pub material: u32,
+    /// Per-corner shading normals (OBJ `vn`, unit length), when every corner has one.
+    pub normals: Option<[Vec3; 3]>,
+    /// Per-corner texture coordinates (OBJ `vt`), when every corner has them.
+    pub uvs: Option<[Vec2; 3]>,
+}
+
+impl MeshTriangle {
+    /// A triangle without shading normals or texture coordinates.
+    pub fn flat(vertices: [Vec3; 3], material: u32) -> MeshTriangle {
+        MeshTriangle {
+            vertices,
+            material,
+            normals: None,
+            uvs: None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +39,8 @@ pub struct Mesh {
     pub materials: Vec<Material>,
     /// `material_names[i]` names `materials[i]` (the MTL name, or "default").
     pub material_names: Vec<String>,
+    /// The images the materials' `map_*` indices refer to.
+    pub textures: Vec<Texture>,
     /// What loaded but will not render as written, each naming the file (and line): for the
     /// command line to print.
     pub warnings: Vec<String>,
@@ -43,13 +62,11 @@ impl Mesh {
             path: path.into(),
             triangles: triangles
                 .iter()
-                .map(|&vertices| MeshTriangle {
-                    vertices,
-                    material: 0,
-                })
+                .map(|&vertices| MeshTriangle::flat(vertices, 0))
                 .collect(),
             materials: vec![Material::DEFAULT],
             material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
+            textures: Vec::new(),
             warnings: Vec::new(),
         }
     }

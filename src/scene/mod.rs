@@ -15,18 +15,20 @@ pub mod intersect;
 pub mod lights;
 pub mod material_tables;
 pub mod mesh;
+pub mod mitsuba;
 mod obj;
 mod ply;
+pub mod texture;
 
 pub use bvh::{Bvh, BvhStats};
 pub use bvh_grid::BvhGrid;
 pub use camera::{CameraDesc, CameraError};
 pub use error::{Location, SceneError};
-pub use file::{DEFAULT_SCENE, Scene, load_scene};
+pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,
-    PackedBvhNode, SceneGpu, Triangle,
+    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use material_tables::{NO_TABLE, materials_bytes};

@@ -4,12 +4,19 @@
 //! the text is checked line by line first: every problem found there names its file and line.
 //! tobj then reads a normalised copy holding only what the renderer uses (positions, faces by
 //! position index, objects, material libraries and `usemtl`), one line per original line, and
-//! fan-triangulates the polygons.
+//! fan-triangulates the polygons. Texture coordinates and normals (`vt`, `vn`) are checked and
+//! kept here, per face, and given to tobj's triangles afterwards (tobj pads a face without them
+//! with another face's indices). The MTL keys tobj does not read (PBR `Pm`/`Pr`, `Tf`, texture
+//! maps) are read here with their lines too; which keys make which material: [`material_from`].
 
 use super::error::{Location, SceneError};
-use super::gpu::{MATERIAL_LAMBERT, MATERIAL_PHONG, Material};
+use super::gpu::{
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
+    Material, NO_TEXTURE,
+};
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
-use glam::Vec3;
+use super::texture::{Encoding, Texture};
+use glam::{Vec2, Vec3};
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
 use std::path::Path;
@@ -17,7 +24,7 @@ use std::path::Path;
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
     let text = unix_line_endings(read(path)?);
     let checked = check_obj(path, &text)?;
-    load_checked(path, &checked)
+    load_checked(path, checked)
 }
 
 /// Old Mac files end lines with a lone CR, which `str::lines` does not split on (the whole file
@@ -43,6 +50,44 @@ struct CheckedObj {
     normalized: String,
     /// Material library text by the name `mtllib` gives (as tobj will ask for it).
     libraries: HashMap<String, String>,
+    /// What the libraries say beyond tobj's keys, by material name (a later definition
+    /// replaces an earlier one, as in tobj).
+    extras: HashMap<String, MtlExtras>,
+    textures: Textures,
+    /// `vt` and `vn` in file order (what face corners index, 0-based).
+    texcoords: Vec<Vec2>,
+    normals: Vec<Vec3>,
+    /// Every face of three or more corners, in file order: what tobj's triangles come from.
+    faces: Vec<FaceCorners>,
+    warnings: Vec<String>,
+}
+
+/// A face's line and, per corner, its `vt` and `vn` indices (0-based) where given.
+struct FaceCorners {
+    line: usize,
+    corners: Vec<(Option<usize>, Option<usize>)>,
+}
+
+/// The images the materials use, each decoded once per encoding.
+#[derive(Default)]
+struct Textures {
+    list: Vec<Texture>,
+    index: HashMap<(std::path::PathBuf, Encoding), u32>,
+}
+
+/// MTL values tobj leaves in `unknown_param` or that need checking with their lines.
+#[derive(Clone, Debug, Default)]
+struct MtlExtras {
+    pm: Option<f32>,
+    pr: Option<f32>,
+    tf: Option<[f32; 3]>,
+    ni: Option<f32>,
+    d: Option<f32>,
+    illum: Option<u8>,
+    map_kd: Option<u32>,
+    map_ks: Option<u32>,
+    map_pr: Option<u32>,
+    map_d: Option<u32>,
 }
 
 /// The first word of a line and the rest, trimmed.
@@ -73,6 +118,12 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
     let mut defined: Vec<String> = Vec::new();
     let mut defined_set: HashSet<String> = HashSet::new();
     let mut vertex_count: usize = 0;
+    let mut extras = HashMap::new();
+    let mut textures = Textures::default();
+    let mut texcoords = Vec::new();
+    let mut normals = Vec::new();
+    let mut faces = Vec::new();
+    let mut warnings = Vec::new();
 
     for (index, line) in text.lines().enumerate() {
         let number = index + 1;
@@ -90,12 +141,29 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                 normalized.push_str("v ");
                 normalized.push_str(&words[..kept].join(" "));
             }
+            "vt" => {
+                let numbers = check_numbers(path, number, keyword, rest, 1..=3)?;
+                // v defaults to 0; w is unused.
+                texcoords.push(Vec2::new(
+                    numbers[0],
+                    numbers.get(1).copied().unwrap_or(0.0),
+                ));
+            }
+            "vn" => {
+                let numbers = check_numbers(path, number, keyword, rest, 3..=3)?;
+                normals.push(Vec3::new(numbers[0], numbers[1], numbers[2]));
+            }
             "f" => {
-                let indices = check_face(path, number, rest, vertex_count)?;
+                let counts = [vertex_count, texcoords.len(), normals.len()];
+                let (indices, corners) = check_face(path, number, rest, counts)?;
                 // Points and lines are not surfaces; tobj is told to ignore them anyway.
                 if indices.len() >= 3 {
                     normalized.push_str("f ");
                     normalized.push_str(&indices.join(" "));
+                    faces.push(FaceCorners {
+                        line: number,
+                        corners,
+                    });
                 }
             }
             "o" | "g" => {
@@ -124,10 +192,12 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                         }
                     })?;
                     let mtl_text = unix_line_endings(mtl_text);
-                    for name in check_mtl(&mtl_path, &mtl_text)? {
+                    let checked = check_mtl(&mtl_path, &mtl_text, &mut textures, &mut warnings)?;
+                    for (name, extra) in checked {
                         if defined_set.insert(name.clone()) {
-                            defined.push(name);
+                            defined.push(name.clone());
                         }
+                        extras.insert(name, extra);
                     }
                     libraries.insert(rest.to_string(), mtl_text);
                 }
@@ -148,7 +218,7 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                 normalized.push_str("usemtl ");
                 normalized.push_str(rest);
             }
-            // Texture coordinates, normals, lines, smoothing groups, comments: unused.
+            // Lines, smoothing groups, comments: unused.
             _ => {}
         }
         normalized.push('\n');
@@ -156,7 +226,47 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
     Ok(CheckedObj {
         normalized,
         libraries,
+        extras,
+        textures,
+        texcoords,
+        normals,
+        faces,
+        warnings,
     })
+}
+
+/// A line's numbers after its keyword: a count in `counts`, each finite.
+fn check_numbers(
+    path: &Path,
+    line: usize,
+    keyword: &str,
+    rest: &str,
+    counts: std::ops::RangeInclusive<usize>,
+) -> Result<Vec<f32>, SceneError> {
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    if !counts.contains(&words.len()) {
+        let expected = if counts.start() == counts.end() {
+            format!("{}", counts.start())
+        } else {
+            format!("{} to {}", counts.start(), counts.end())
+        };
+        return Err(syntax(
+            path,
+            line,
+            format!("{keyword} needs {expected} numbers; found {}", words.len()),
+        ));
+    }
+    words
+        .iter()
+        .map(|word| match word.parse::<f32>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(syntax(
+                path,
+                line,
+                format!("{keyword}: '{word}' is not a finite number"),
+            )),
+        })
+        .collect()
 }
 
 /// `v x y z [w | r g b]`: numbers, w nonzero, and a finite position after dividing by w.
@@ -203,15 +313,18 @@ fn check_vertex(path: &Path, line: usize, rest: &str) -> Result<(), SceneError> 
     Ok(())
 }
 
-/// `f v1[/vt/vn] v2 ...`: every position index in range (1-based, or negative = relative).
-/// Returns the position indices as written.
+/// `f v1[/vt/vn] v2 ...`: every index in range (1-based, or negative = relative) of what is
+/// defined above (`counts`: vertices, texture coordinates, normals). Returns the position
+/// indices as written and each corner's `vt` and `vn`, 0-based.
+#[allow(clippy::type_complexity)]
 fn check_face<'a>(
     path: &Path,
     line: usize,
     rest: &'a str,
-    vertex_count: usize,
-) -> Result<Vec<&'a str>, SceneError> {
+    counts: [usize; 3],
+) -> Result<(Vec<&'a str>, Vec<(Option<usize>, Option<usize>)>), SceneError> {
     let mut indices = Vec::new();
+    let mut corners = Vec::new();
     for word in rest.split_whitespace() {
         let parts: Vec<&str> = word.split('/').collect();
         if parts.len() > 3 {
@@ -229,36 +342,82 @@ fn check_face<'a>(
                 format!("'{word}' does not start with a vertex index"),
             )
         })?;
-        let count = vertex_count as i64;
-        let valid = if index < 0 {
-            count + index >= 0
-        } else {
-            index >= 1 && index <= count
-        };
-        if !valid {
-            return Err(SceneError::FaceIndexOutOfRange {
-                at: Location::line(path, line),
-                index,
-                vertex_count,
-                valid: if vertex_count == 0 {
-                    "none yet: faces may only use vertices defined above them".to_string()
-                } else {
-                    format!("1..={vertex_count} or -{vertex_count}..=-1")
-                },
-            });
-        }
+        resolve_index(index, counts[0]).ok_or_else(|| SceneError::FaceIndexOutOfRange {
+            at: Location::line(path, line),
+            index,
+            vertex_count: counts[0],
+            valid: valid_range(counts[0], "vertices"),
+        })?;
         indices.push(position);
+    }
+    // Texture coordinate and normal indices after every position's: a face's positions are the
+    // more fundamental error.
+    for word in rest.split_whitespace() {
+        let parts: Vec<&str> = word.split('/').collect();
+        let optional = |slot: usize,
+                        what: &str,
+                        plural: &str|
+         -> Result<Option<usize>, SceneError> {
+            match parts.get(slot) {
+                None | Some(&"") => Ok(None),
+                Some(text) => {
+                    let index: i64 = text.parse().map_err(|_| {
+                        syntax(
+                            path,
+                            line,
+                            format!("'{word}': '{text}' is not a {what} index"),
+                        )
+                    })?;
+                    resolve_index(index, counts[slot]).map(Some).ok_or_else(|| {
+                        syntax(
+                            path,
+                            line,
+                            format!(
+                                "face refers to {what} {index}, but {} {plural} are defined (valid: {})",
+                                counts[slot],
+                                valid_range(counts[slot], plural)
+                            ),
+                        )
+                    })
+                }
+            }
+        };
+        let vt = optional(1, "texture coordinate", "texture coordinates")?;
+        let vn = optional(2, "normal", "normals")?;
+        corners.push((vt, vn));
     }
     if indices.is_empty() {
         return Err(syntax(path, line, "a face needs vertices"));
     }
-    Ok(indices)
+    Ok((indices, corners))
+}
+
+/// An OBJ index (1-based, or negative = counted back from the last) as 0-based, if in range.
+fn resolve_index(index: i64, count: usize) -> Option<usize> {
+    let count = count as i64;
+    let resolved = if index < 0 { count + index } else { index - 1 };
+    (0..count).contains(&resolved).then_some(resolved as usize)
+}
+
+fn valid_range(count: usize, what: &str) -> String {
+    if count == 0 {
+        format!("none yet: faces may only use {what} defined above them")
+    } else {
+        format!("1..={count} or -{count}..=-1")
+    }
 }
 
 /// Checks the lines of an MTL file that tobj parses (it panics on short colours) and that the
-/// renderer needs finite and non-negative. Returns the material names in order.
-fn check_mtl(path: &Path, text: &str) -> Result<Vec<String>, SceneError> {
-    let mut names = Vec::new();
+/// renderer needs in range, reads what tobj leaves unparsed, and loads the texture maps.
+/// Returns the materials' names in order with those values.
+fn check_mtl(
+    path: &Path,
+    text: &str,
+    textures: &mut Textures,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<(String, MtlExtras)>, SceneError> {
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mut materials: Vec<(String, MtlExtras)> = Vec::new();
     for (index, line) in text.lines().enumerate() {
         let number = index + 1;
         let Some((keyword, rest)) = split_keyword(line) else {
@@ -294,38 +453,177 @@ fn check_mtl(path: &Path, text: &str) -> Result<Vec<String>, SceneError> {
                 ))
             }
         };
+        let in_unit_range = |value: f32| {
+            if (0.0..=1.0).contains(&value) {
+                Ok(value)
+            } else {
+                Err(syntax(
+                    path,
+                    number,
+                    format!("{keyword} must be in [0, 1], found '{rest}'"),
+                ))
+            }
+        };
+        // Keys before the first `newmtl` belong to no material; tobj ignores them too.
+        let current = materials.last_mut().map(|(_, extras)| extras);
+        let set = |apply: &mut dyn FnMut(&mut MtlExtras)| {
+            if let Some(extras) = current {
+                apply(extras);
+            }
+        };
         match keyword {
             "newmtl" => {
                 if rest.is_empty() {
                     return Err(syntax(path, number, "newmtl needs a material name"));
                 }
-                names.push(rest.to_string());
+                materials.push((rest.to_string(), MtlExtras::default()));
             }
             "Kd" | "Ks" | "Ke" => physical(&numbers(3)?)?,
             "Ka" => {
                 numbers(3)?;
             }
             "Ns" => physical(&numbers(1)?)?,
-            "Ni" | "d" => {
-                numbers(1)?;
+            "Ni" => {
+                let ni = numbers(1)?[0];
+                if !(ni.is_finite() && ni > 0.0) {
+                    return Err(syntax(
+                        path,
+                        number,
+                        format!(
+                            "Ni (index of refraction) must be positive and finite, found '{rest}'"
+                        ),
+                    ));
+                }
+                set(&mut |e| e.ni = Some(ni));
             }
-            "illum" if words.first().and_then(|w| w.parse::<u8>().ok()).is_none() => {
-                return Err(syntax(path, number, "illum needs a model number (0-255)"));
+            "d" => {
+                let d = in_unit_range(numbers(1)?[0])?;
+                set(&mut |e| e.d = Some(d));
             }
-            "map_Ka" | "map_Kd" | "map_Ks" | "map_Bump" | "map_bump" | "map_Ns" | "map_ns"
-            | "map_NS" | "bump" | "map_d"
-                if rest.is_empty() =>
-            {
-                return Err(syntax(path, number, format!("{keyword} needs a file name")));
+            "Pr" => {
+                let pr = in_unit_range(numbers(1)?[0])?;
+                set(&mut |e| e.pr = Some(pr));
+            }
+            "Pm" => {
+                let pm = numbers(1)?[0];
+                if !pm.is_finite() {
+                    return Err(syntax(
+                        path,
+                        number,
+                        format!("Pm must be finite, found '{rest}'"),
+                    ));
+                }
+                if pm != 0.0 && pm != 1.0 {
+                    warnings.push(format!(
+                        "{}:{number}: Pm {pm} is neither 0 nor 1: rendered as {} (threshold 0.5)",
+                        path.display(),
+                        if pm >= 0.5 {
+                            "a conductor (Pm 1)"
+                        } else {
+                            "plastic (Pm 0)"
+                        }
+                    ));
+                }
+                set(&mut |e| e.pm = Some(pm));
+            }
+            "Tf" => {
+                // `Tf r g b`, or `Tf v` for a grey (the spectral and xyz forms are not read).
+                let tf = match words.len() {
+                    1 => [numbers(1)?[0]; 3],
+                    _ => {
+                        let v = numbers(3)?;
+                        [v[0], v[1], v[2]]
+                    }
+                };
+                physical(&tf)?;
+                set(&mut |e| e.tf = Some(tf));
+            }
+            "illum" => {
+                let Some(model) = words.first().and_then(|w| w.parse::<u8>().ok()) else {
+                    return Err(syntax(path, number, "illum needs a model number (0-255)"));
+                };
+                set(&mut |e| e.illum = Some(model));
+            }
+            "map_Kd" | "map_Ks" | "map_Pr" | "map_d" => {
+                let encoding = match keyword {
+                    "map_Kd" | "map_Ks" => Encoding::Srgb,
+                    _ => Encoding::Raw,
+                };
+                let texture = load_map(path, dir, number, keyword, rest, encoding, textures)?;
+                set(&mut |e| match keyword {
+                    "map_Kd" => e.map_kd = Some(texture),
+                    "map_Ks" => e.map_ks = Some(texture),
+                    "map_Pr" => e.map_pr = Some(texture),
+                    _ => e.map_d = Some(texture),
+                });
+            }
+            "map_Ka" | "map_Bump" | "map_bump" | "map_Ns" | "map_ns" | "map_NS" | "bump"
+            | "map_Ke" | "map_Pm" | "map_Ps" | "norm" | "disp" | "decal" | "refl" => {
+                if rest.is_empty() {
+                    return Err(syntax(path, number, format!("{keyword} needs a file name")));
+                }
+                warnings.push(format!(
+                    "{}:{number}: {keyword} is not supported; ignored",
+                    path.display()
+                ));
             }
             _ => {}
         }
     }
-    Ok(names)
+    Ok(materials)
+}
+
+/// A `map_*` line's image, loaded once per file and encoding; its index in `textures`.
+fn load_map(
+    path: &Path,
+    dir: &Path,
+    line: usize,
+    keyword: &str,
+    rest: &str,
+    encoding: Encoding,
+    textures: &mut Textures,
+) -> Result<u32, SceneError> {
+    if rest.is_empty() {
+        return Err(syntax(path, line, format!("{keyword} needs a file name")));
+    }
+    // Options (-s, -o, -bm, -clamp, ...) would change the lookup; reading them as part of the
+    // file name, or skipping them, would render something else than the file asks for.
+    if rest.starts_with('-') {
+        let option = rest.split_whitespace().next().unwrap_or(rest);
+        return Err(syntax(
+            path,
+            line,
+            format!(
+                "{keyword}: texture options such as '{option}' are not supported; give the file name alone"
+            ),
+        ));
+    }
+    // Like tobj, the rest of the line is the file name (it may contain spaces).
+    let file = dir.join(rest);
+    let key = (file.clone(), encoding);
+    if let Some(&index) = textures.index.get(&key) {
+        return Ok(index);
+    }
+    let texture = Texture::load(&file, encoding).map_err(|message| {
+        // The OS's message without its "(os error N)" suffix.
+        let message = match message.find(" (os error") {
+            Some(at) => message[..at].to_string(),
+            None => message,
+        };
+        syntax(
+            path,
+            line,
+            format!("{keyword}: cannot read '{rest}': {message}"),
+        )
+    })?;
+    let index = textures.list.len() as u32;
+    textures.list.push(texture);
+    textures.index.insert(key, index);
+    Ok(index)
 }
 
 /// Loads the checked text through tobj and converts its models.
-fn load_checked(path: &Path, checked: &CheckedObj) -> Result<Mesh, SceneError> {
+fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
     let options = tobj::LoadOptions {
         triangulate: true,
         ignore_points: true,
@@ -349,12 +647,23 @@ fn load_checked(path: &Path, checked: &CheckedObj) -> Result<Mesh, SceneError> {
     let materials = materials.unwrap_or_default();
 
     let mut mesh = Mesh {
-        warnings: Vec::new(),
+        warnings: checked.warnings,
         path: path.to_path_buf(),
         triangles: Vec::new(),
-        materials: materials.iter().map(convert_material).collect(),
+        materials: materials
+            .iter()
+            .map(|m| material_from(m, checked.extras.get(&m.name)))
+            .collect(),
         material_names: materials.iter().map(|m| m.name.clone()).collect(),
+        textures: checked.textures.list,
     };
+    // tobj keeps the faces' order (its models follow the file) and fans each the same way.
+    let mut corners = checked.faces.iter().flat_map(|face| {
+        crate::scene::mesh::fan_triangulate(&face.corners)
+            .map(move |triangle| (face.line, triangle))
+            .collect::<Vec<_>>()
+    });
+    let mut zero_normals: Vec<usize> = Vec::new();
     let mut default_material = None;
     for model in &models {
         let material = match model.mesh.material_id {
@@ -376,23 +685,81 @@ fn load_checked(path: &Path, checked: &CheckedObj) -> Result<Mesh, SceneError> {
                 }),
             }
         };
-        for corners in model.mesh.indices.chunks_exact(3) {
+        for indices in model.mesh.indices.chunks_exact(3) {
+            let Some((line, triangle)) = corners.next() else {
+                return Err(SceneError::Mesh {
+                    path: path.to_path_buf(),
+                    message: "tobj returned more triangles than the file has".to_string(),
+                });
+            };
+            let uvs = match triangle.map(|(vt, _)| vt) {
+                [Some(a), Some(b), Some(c)] => Some([
+                    checked.texcoords[a],
+                    checked.texcoords[b],
+                    checked.texcoords[c],
+                ]),
+                _ => None,
+            };
+            let normals = match triangle.map(|(_, vn)| vn) {
+                [Some(a), Some(b), Some(c)] => {
+                    let n = [checked.normals[a], checked.normals[b], checked.normals[c]];
+                    // A zero (or overflowing) normal has no direction to interpolate.
+                    if n.iter().all(|n| n.length_squared().is_normal()) {
+                        Some(n.map(Vec3::normalize))
+                    } else {
+                        if zero_normals.last() != Some(&line) {
+                            zero_normals.push(line);
+                        }
+                        None
+                    }
+                }
+                _ => None,
+            };
             mesh.triangles.push(MeshTriangle {
                 vertices: [
-                    vertex(corners[0])?,
-                    vertex(corners[1])?,
-                    vertex(corners[2])?,
+                    vertex(indices[0])?,
+                    vertex(indices[1])?,
+                    vertex(indices[2])?,
                 ],
                 material,
+                normals,
+                uvs,
             });
         }
+    }
+    if let Some(&first) = zero_normals.first() {
+        mesh.warnings.push(format!(
+            "{}:{first}: {} face{} a zero-length (or overflowing) normal (vn); shaded with the geometric normal",
+            path.display(),
+            zero_normals.len(),
+            if zero_normals.len() == 1 {
+                " has"
+            } else {
+                "s have"
+            }
+        ));
     }
     Ok(mesh)
 }
 
+/// GGX roughness r from `Pr`, or else from `Ns` as Blender's OBJ importer converts it
+/// (r = 1 - sqrt(Ns / 1000)); 0 (smooth) when neither is given.
+fn roughness(m: &tobj::Material, extras: &MtlExtras) -> f32 {
+    match (extras.pr, m.shininess) {
+        (Some(pr), _) => pr,
+        (None, Some(ns)) => 1.0 - (ns.clamp(0.0, 1000.0) / 1000.0).sqrt(),
+        (None, None) => 0.0,
+    }
+}
+
 /// MTL values to the renderer's material. Missing values: Kd 0.8 (as for faces without a
-/// material), Ks 0, Ns 0, Ke 0.
-fn convert_material(m: &tobj::Material) -> Material {
+/// material), Ks 0, Ns 0, Ke 0, Ni 1.5, Tf 1, d 1.
+///
+/// The kind: `illum` 4, 6 or 7, or a `Tf`: dielectric (glass). Else `Pm` or `Pr` (the PBR
+/// keys): a conductor when Pm >= 0.5 (Fresnel = Kd), plastic otherwise (diffuse Kd, specular
+/// tint Ks, 1 when absent). Else the seed's models: Phong when Ks > 0, Lambert otherwise.
+fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
+    let extras = extras.cloned().unwrap_or_default();
     // tobj 4 parses Ke itself; older versions left it among the unknown parameters.
     let ke = m.emissive.or_else(|| {
         let values: Vec<f32> = m
@@ -403,17 +770,39 @@ fn convert_material(m: &tobj::Material) -> Material {
             .collect::<Option<_>>()?;
         values.get(..3).map(|v| [v[0], v[1], v[2]])
     });
-    let ks = m.specular.unwrap_or([0.0; 3]);
-    Material {
-        kd: m.diffuse.unwrap_or(Material::DEFAULT.kd),
+    let kd = m.diffuse.unwrap_or(Material::DEFAULT.kd);
+    let glass = matches!(extras.illum, Some(4 | 6 | 7)) || extras.tf.is_some();
+    let pbr = extras.pm.is_some() || extras.pr.is_some();
+    let r = roughness(m, &extras);
+    let mut material = Material {
+        kd,
         ns: m.shininess.unwrap_or(0.0),
-        ks,
-        kind: if ks.iter().any(|&c| c > 0.0) {
-            MATERIAL_PHONG
-        } else {
-            MATERIAL_LAMBERT
-        },
+        ks: m.specular.unwrap_or([0.0; 3]),
         ke: ke.unwrap_or([0.0; 3]),
+        tf: extras.tf.unwrap_or([1.0; 3]),
+        ior: extras.ni.unwrap_or(1.5),
+        map_kd: extras.map_kd.unwrap_or(NO_TEXTURE),
+        map_ks: extras.map_ks.unwrap_or(NO_TEXTURE),
+        map_pr: extras.map_pr.unwrap_or(NO_TEXTURE),
+        map_d: extras.map_d.unwrap_or(NO_TEXTURE),
+        opacity: extras.d.unwrap_or(1.0),
         ..Material::default()
+    };
+    if glass {
+        material.kind = MATERIAL_DIELECTRIC;
+        material.alpha = r * r;
+    } else if pbr {
+        material.alpha = r * r;
+        if extras.pm.unwrap_or(0.0) >= 0.5 {
+            material.kind = MATERIAL_CONDUCTOR;
+        } else {
+            material.kind = MATERIAL_PLASTIC;
+            material.ks = m.specular.unwrap_or([1.0; 3]);
+        }
+    } else if material.ks.iter().any(|&c| c > 0.0) {
+        material.kind = MATERIAL_PHONG;
+    } else {
+        material.kind = MATERIAL_LAMBERT;
     }
+    material
 }

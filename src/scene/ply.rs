@@ -87,10 +87,7 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
                     })?;
             corners.push(*vertex);
         }
-        triangles.extend(fan_triangulate(&corners).map(|vertices| MeshTriangle {
-            vertices,
-            material: 0,
-        }));
+        triangles.extend(fan_triangulate(&corners).map(|vertices| MeshTriangle::flat(vertices, 0)));
     }
 
     Ok(Mesh {
@@ -99,6 +96,7 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
         triangles,
         materials: vec![Material::DEFAULT],
         material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
+        textures: Vec::new(),
     })
 }
 

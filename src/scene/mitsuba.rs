@@ -1,0 +1,529 @@
+//! The loaded scene as a Mitsuba 3 scene: `scene.xml` and one OBJ per material, written from
+//! the same [`Scene`] the renderer draws (one parser for both), so that a reference renders
+//! what passgraph renders.
+//!
+//! The XML takes Mitsuba parameters with defaults (`$spp`, `$sampler_type`, `$max_depth`,
+//! `$seed`): `mi.load_file(xml, spp=64, sampler_type="multijitter")`. Each material kind has its
+//! Mitsuba plugin (see [`bsdf_xml`]); Blinn-Phong has none and is an error.
+
+use super::file::Scene;
+use super::gpu::{
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
+    Material, NO_TEXTURE,
+};
+use super::mesh::MeshTriangle;
+use super::texture::Texture;
+use glam::Vec3;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+/// What the command line sets besides the scene.
+#[derive(Clone, Debug)]
+pub struct ExportOptions {
+    pub size: [u32; 2],
+    /// Replaces the scene's `max_depth` (the `$max_depth` default).
+    pub max_depth: Option<u32>,
+}
+
+/// Writes `dir/scene.xml` and `dir/meshes/*.obj`; returns the files written.
+pub fn export(scene: &Scene, dir: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>, String> {
+    let groups = material_groups(scene);
+    // Every material is checked before anything is written.
+    let mut shapes = Vec::new();
+    for (n, (material, triangles)) in groups.iter().enumerate() {
+        let file = format!("meshes/mesh{n}.obj");
+        let bsdf = bsdf_xml(scene, *material)?;
+        shapes.push((file, *material, bsdf, triangles));
+    }
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes)
+        .map_err(|e| format!("{}: cannot create: {e}", meshes.display()))?;
+    let mut written = Vec::new();
+    let mut shape_xml = String::new();
+    for (file, material, bsdf, triangles) in &shapes {
+        let path = dir.join(file);
+        let (obj, has_normals) = mesh_obj(triangles);
+        crate::atomic_write::write_atomic(&path, obj.as_bytes())
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        written.push(path);
+        shape_xml += &shape(scene, *material, file, has_normals, bsdf);
+    }
+    let xml = scene_xml(scene, options, &shape_xml);
+    let path = dir.join("scene.xml");
+    crate::atomic_write::write_atomic(&path, xml.as_bytes())
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    written.push(path);
+    Ok(written)
+}
+
+/// The triangles of each used material, in file order, by material index.
+fn material_groups(scene: &Scene) -> Vec<(u32, Vec<&MeshTriangle>)> {
+    let mut groups: Vec<(u32, Vec<&MeshTriangle>)> = Vec::new();
+    for t in &scene.mesh.triangles {
+        match groups.iter_mut().find(|(m, _)| *m == t.material) {
+            Some((_, list)) => list.push(t),
+            None => groups.push((t.material, vec![t])),
+        }
+    }
+    groups
+}
+
+/// An OBJ of unshared triangles (front faces counter-clockwise, as loaded); with `vn` when a
+/// triangle has normals (the others get their face normal: flat, as passgraph shades them) and
+/// `vt` when one has uvs (the others (0, 0), what `shading_uv` gives them). Returns the text
+/// and whether it has normals.
+fn mesh_obj(triangles: &[&MeshTriangle]) -> (String, bool) {
+    let has_normals = triangles.iter().any(|t| t.normals.is_some());
+    let has_uvs = triangles.iter().any(|t| t.uvs.is_some());
+    let mut text = String::new();
+    for t in triangles {
+        for p in t.vertices {
+            let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
+        }
+        if has_uvs {
+            for uv in t.uvs.unwrap_or_default() {
+                let _ = writeln!(text, "vt {} {}", uv.x, uv.y);
+            }
+        }
+        if has_normals {
+            let [a, b, c] = t.vertices;
+            let face = (b - a).cross(c - a).normalize_or(Vec3::Z);
+            for n in t.normals.unwrap_or([face; 3]) {
+                let _ = writeln!(text, "vn {} {} {}", n.x, n.y, n.z);
+            }
+        }
+    }
+    for k in 0..triangles.len() {
+        let corner = |i: usize| {
+            let i = 3 * k + i + 1;
+            match (has_uvs, has_normals) {
+                (false, false) => format!("{i}"),
+                (true, false) => format!("{i}/{i}"),
+                (false, true) => format!("{i}//{i}"),
+                (true, true) => format!("{i}/{i}/{i}"),
+            }
+        };
+        let _ = writeln!(text, "f {} {} {}", corner(0), corner(1), corner(2));
+    }
+    (text, has_normals)
+}
+
+fn shape(scene: &Scene, material: u32, file: &str, has_normals: bool, bsdf: &str) -> String {
+    let m = scene.mesh.materials[material as usize];
+    let mut xml = format!(
+        "    <!-- {} -->\n    <shape type=\"obj\">\n        <string name=\"filename\" value=\"{}\"/>\n",
+        comment(&scene.mesh.material_names[material as usize]),
+        attribute(file)
+    );
+    if !has_normals {
+        xml += "        <boolean name=\"face_normals\" value=\"true\"/>\n";
+    }
+    xml += &indent(bsdf, 2);
+    if m.is_emissive() {
+        // Mitsuba's area lights emit on the front face only, as passgraph's.
+        let _ = write!(
+            xml,
+            "        <emitter type=\"area\">\n            <rgb name=\"radiance\" value=\"{}\"/>\n        </emitter>\n",
+            rgb(m.ke)
+        );
+    }
+    xml + "    </shape>\n"
+}
+
+fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
+    let c = &scene.camera;
+    let [w, h] = options.size;
+    let depth = options.max_depth.unwrap_or(scene.max_depth);
+    format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- {source}, written by `passgraph mitsuba-scene`. -->
+<scene version="3.0.0">
+    <default name="spp" value="4"/>
+    <default name="sampler_type" value="independent"/>
+    <default name="max_depth" value="{depth}"/>
+    <default name="seed" value="0"/>
+    <integrator type="path">
+        <integer name="max_depth" value="$max_depth"/>
+        <!-- No Russian roulette: passgraph has none. -->
+        <integer name="rr_depth" value="1000"/>
+    </integrator>
+    <sensor type="perspective">
+        <string name="fov_axis" value="y"/>
+        <float name="fov" value="{fov}"/>
+        <transform name="to_world">
+            <lookat origin="{eye}" target="{target}" up="{up}"/>
+        </transform>
+        <sampler type="$sampler_type">
+            <integer name="sample_count" value="$spp"/>
+            <integer name="seed" value="$seed"/>
+        </sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="{w}"/>
+            <integer name="height" value="{h}"/>
+            <string name="pixel_format" value="rgb"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+{shapes}</scene>
+"#,
+        source = comment(&scene.path.display().to_string()),
+        fov = c.fov_y_degrees(),
+        eye = rgb(c.eye().into()),
+        target = rgb(c.target().into()),
+        up = rgb(c.up().into()),
+    )
+}
+
+/// The BSDF of material `index` as Mitsuba XML:
+///
+/// - Lambert: `twosided` + `diffuse`.
+/// - Conductor: `twosided` + `roughconductor` (GGX, `material none`, Fresnel = kd), or
+///   `conductor` when smooth.
+/// - Plastic: `twosided` + `roughplastic` (GGX, `nonlinear false`), or `plastic` when smooth.
+/// - Dielectric: `roughdielectric`, or `dielectric` when smooth; one-sided, as passgraph's.
+/// - Phong: an error (Mitsuba 3 has no Blinn-Phong).
+///
+/// Colour maps are `bitmap` textures (sRGB), `map_d` a raw one under a `mask`; `ext_ior` is
+/// 1 (vacuum), as passgraph's.
+pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
+    let m: Material = scene.mesh.materials[index as usize];
+    let name = &scene.mesh.material_names[index as usize];
+    let textures = &scene.mesh.textures;
+    let colour = |param: &str, value: [f32; 3], map: u32| -> Result<String, String> {
+        if map == NO_TEXTURE {
+            Ok(format!(
+                "<rgb name=\"{param}\" value=\"{}\"/>\n",
+                rgb(value)
+            ))
+        } else {
+            bitmap(param, &textures[map as usize], false, name)
+        }
+    };
+    if m.map_pr != NO_TEXTURE {
+        return Err(format!(
+            "material '{name}' has a roughness map (map_Pr), which Mitsuba 3 cannot square into its GGX alpha"
+        ));
+    }
+    let ggx = |smooth: &str, rough: &str, body: String| {
+        if m.alpha > 0.0 {
+            format!(
+                "<bsdf type=\"{rough}\">\n    <string name=\"distribution\" value=\"ggx\"/>\n    <float name=\"alpha\" value=\"{}\"/>\n{}</bsdf>\n",
+                m.alpha,
+                indent(&body, 1)
+            )
+        } else {
+            format!("<bsdf type=\"{smooth}\">\n{}</bsdf>\n", indent(&body, 1))
+        }
+    };
+    let twosided =
+        |inner: String| format!("<bsdf type=\"twosided\">\n{}</bsdf>\n", indent(&inner, 1));
+    let ior = |m: &Material| {
+        format!(
+            "<float name=\"int_ior\" value=\"{}\"/>\n<float name=\"ext_ior\" value=\"1.0\"/>\n",
+            m.ior
+        )
+    };
+    let bsdf = match m.kind {
+        MATERIAL_LAMBERT => twosided(format!(
+            "<bsdf type=\"diffuse\">\n{}</bsdf>\n",
+            indent(&colour("reflectance", m.kd, m.map_kd)?, 1)
+        )),
+        MATERIAL_CONDUCTOR => twosided(ggx(
+            "conductor",
+            "roughconductor",
+            format!(
+                "<string name=\"material\" value=\"none\"/>\n{}",
+                colour("specular_reflectance", m.kd, m.map_kd)?
+            ),
+        )),
+        MATERIAL_PLASTIC => twosided(ggx(
+            "plastic",
+            "roughplastic",
+            format!(
+                "{}{}{}<boolean name=\"nonlinear\" value=\"false\"/>\n",
+                ior(&m),
+                colour("diffuse_reflectance", m.kd, m.map_kd)?,
+                colour("specular_reflectance", m.ks, m.map_ks)?
+            ),
+        )),
+        MATERIAL_DIELECTRIC => ggx(
+            "dielectric",
+            "roughdielectric",
+            format!(
+                "{}<rgb name=\"specular_transmittance\" value=\"{}\"/>\n",
+                ior(&m),
+                rgb(m.tf)
+            ),
+        ),
+        MATERIAL_PHONG => {
+            return Err(format!(
+                "material '{name}' is Blinn-Phong, which Mitsuba 3 has no plugin for"
+            ));
+        }
+        other => return Err(format!("material '{name}' has unknown kind {other}")),
+    };
+    // Cut-outs: Mitsuba's mask passes light through with probability 1 - opacity.
+    if m.map_d != NO_TEXTURE {
+        let opacity = bitmap("opacity", &textures[m.map_d as usize], true, name)?;
+        return Ok(format!(
+            "<bsdf type=\"mask\">\n{}{}</bsdf>\n",
+            indent(&opacity, 1),
+            indent(&bsdf, 1)
+        ));
+    }
+    if m.opacity < 1.0 {
+        return Ok(format!(
+            "<bsdf type=\"mask\">\n    <float name=\"opacity\" value=\"{}\"/>\n{}</bsdf>\n",
+            m.opacity,
+            indent(&bsdf, 1)
+        ));
+    }
+    Ok(bsdf)
+}
+
+/// A `bitmap` texture of the image file (absolute, so the XML may move): bilinear, repeat (the
+/// defaults), `raw` for scalar maps.
+fn bitmap(param: &str, texture: &Texture, raw: bool, material: &str) -> Result<String, String> {
+    let file = std::fs::canonicalize(&texture.path).map_err(|e| {
+        format!(
+            "material '{material}': texture '{}': {e}",
+            texture.path.display()
+        )
+    })?;
+    Ok(format!(
+        "<texture type=\"bitmap\" name=\"{param}\">\n    <string name=\"filename\" value=\"{}\"/>\n    <boolean name=\"raw\" value=\"{raw}\"/>\n</texture>\n",
+        attribute(&file.display().to_string())
+    ))
+}
+
+fn rgb(v: [f32; 3]) -> String {
+    format!("{}, {}, {}", v[0], v[1], v[2])
+}
+
+fn indent(text: &str, levels: usize) -> String {
+    let pad = "    ".repeat(levels);
+    text.lines().map(|l| format!("{pad}{l}\n")).collect()
+}
+
+fn attribute(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('"', "&quot;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Text safe inside `<!-- -->`.
+fn comment(text: &str) -> String {
+    text.replace("--", "- -")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::camera::CameraDesc;
+    use crate::scene::mesh::Mesh;
+    use crate::scene::texture::{Encoding, Texture};
+
+    fn scene(materials: Vec<Material>) -> Scene {
+        let names = (0..materials.len()).map(|i| format!("m{i}")).collect();
+        let mut texture = Texture::from_texels(1, 1, vec![[1.0; 4]]);
+        texture.path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
+        texture.encoding = Encoding::Srgb;
+        Scene {
+            path: "s.ron".into(),
+            mesh: Mesh {
+                path: "m.obj".into(),
+                triangles: Vec::new(),
+                materials,
+                material_names: names,
+                textures: vec![texture],
+                warnings: Vec::new(),
+            },
+            camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),
+            max_depth: 3,
+        }
+    }
+
+    fn bsdf(m: Material) -> Result<String, String> {
+        bsdf_xml(&scene(vec![m]), 0)
+    }
+
+    fn assert_has(xml: &str, parts: &[&str]) {
+        for p in parts {
+            assert!(xml.contains(p), "expected {p} in\n{xml}");
+        }
+    }
+
+    #[test]
+    fn lambert_is_a_two_sided_diffuse() {
+        let xml = bsdf(Material::diffuse([0.5, 0.25, 1.0])).unwrap();
+        assert_has(
+            &xml,
+            &[
+                "type=\"twosided\"",
+                "type=\"diffuse\"",
+                "name=\"reflectance\" value=\"0.5, 0.25, 1\"",
+            ],
+        );
+    }
+
+    #[test]
+    fn conductors_are_ggx_or_smooth_with_kd_as_fresnel() {
+        let rough = Material {
+            kind: MATERIAL_CONDUCTOR,
+            alpha: 0.25,
+            ..Material::diffuse([1.0, 0.8, 0.3])
+        };
+        let xml = bsdf(rough).unwrap();
+        assert_has(
+            &xml,
+            &[
+                "twosided",
+                "roughconductor",
+                "value=\"ggx\"",
+                "name=\"alpha\" value=\"0.25\"",
+                "name=\"material\" value=\"none\"",
+                "name=\"specular_reflectance\" value=\"1, 0.8, 0.3\"",
+            ],
+        );
+        let xml = bsdf(Material {
+            alpha: 0.0,
+            ..rough
+        })
+        .unwrap();
+        assert_has(&xml, &["type=\"conductor\""]);
+        assert!(!xml.contains("alpha"), "{xml}");
+    }
+
+    #[test]
+    fn plastic_has_both_iors_and_linear_blending() {
+        let m = Material {
+            kind: MATERIAL_PLASTIC,
+            alpha: 0.1,
+            ior: 1.6,
+            ks: [0.5; 3],
+            map_kd: 0,
+            ..Material::diffuse([0.1, 0.2, 0.3])
+        };
+        let xml = bsdf(m).unwrap();
+        assert_has(
+            &xml,
+            &[
+                "twosided",
+                "roughplastic",
+                "name=\"int_ior\" value=\"1.6\"",
+                "name=\"ext_ior\" value=\"1.0\"",
+                "<texture type=\"bitmap\" name=\"diffuse_reflectance\">",
+                "name=\"raw\" value=\"false\"",
+                "name=\"specular_reflectance\" value=\"0.5, 0.5, 0.5\"",
+                "name=\"nonlinear\" value=\"false\"",
+            ],
+        );
+        assert_has(
+            &bsdf(Material { alpha: 0.0, ..m }).unwrap(),
+            &["type=\"plastic\""],
+        );
+    }
+
+    #[test]
+    fn dielectrics_are_one_sided() {
+        let m = Material {
+            kind: MATERIAL_DIELECTRIC,
+            ior: 1.33,
+            tf: [0.9, 1.0, 1.0],
+            ..Material::default()
+        };
+        let xml = bsdf(m).unwrap();
+        assert!(!xml.contains("twosided"), "{xml}");
+        assert_has(
+            &xml,
+            &[
+                "type=\"dielectric\"",
+                "name=\"int_ior\" value=\"1.33\"",
+                "name=\"specular_transmittance\" value=\"0.9, 1, 1\"",
+            ],
+        );
+        let xml = bsdf(Material { alpha: 0.04, ..m }).unwrap();
+        assert_has(&xml, &["roughdielectric", "name=\"alpha\" value=\"0.04\""]);
+    }
+
+    #[test]
+    fn cutouts_are_masks() {
+        let xml = bsdf(Material {
+            opacity: 0.5,
+            ..Material::default()
+        })
+        .unwrap();
+        assert_has(
+            &xml,
+            &["type=\"mask\"", "name=\"opacity\" value=\"0.5\"", "diffuse"],
+        );
+        let xml = bsdf(Material {
+            map_d: 0,
+            ..Material::default()
+        })
+        .unwrap();
+        assert_has(
+            &xml,
+            &[
+                "type=\"mask\"",
+                "name=\"opacity\">",
+                "name=\"raw\" value=\"true\"",
+            ],
+        );
+    }
+
+    #[test]
+    fn phong_is_an_error_naming_the_material() {
+        let error = bsdf(Material {
+            kind: MATERIAL_PHONG,
+            ks: [0.5; 3],
+            ..Material::default()
+        })
+        .unwrap_err();
+        assert_eq!(
+            error,
+            "material 'm0' is Blinn-Phong, which Mitsuba 3 has no plugin for"
+        );
+    }
+
+    #[test]
+    fn the_scene_has_parameters_with_defaults_and_the_camera() {
+        let s = scene(vec![Material::default()]);
+        let options = ExportOptions {
+            size: [64, 32],
+            max_depth: Some(8),
+        };
+        let xml = scene_xml(&s, &options, "");
+        assert_has(
+            &xml,
+            &[
+                "<default name=\"spp\" value=\"4\"/>",
+                "<default name=\"max_depth\" value=\"8\"/>",
+                "<sampler type=\"$sampler_type\">",
+                "name=\"rr_depth\" value=\"1000\"",
+                "<lookat origin=\"0, 0, 1\" target=\"0, 0, 0\" up=\"0, 1, 0\"/>",
+                "name=\"fov\" value=\"40\"",
+                "name=\"width\" value=\"64\"",
+                "<rfilter type=\"box\"/>",
+            ],
+        );
+    }
+
+    #[test]
+    fn meshes_keep_normals_and_uvs_and_give_the_others_flat_defaults() {
+        let mut a = MeshTriangle::flat([Vec3::ZERO, Vec3::X, Vec3::Y], 0);
+        let b = a;
+        a.normals = Some([Vec3::Z; 3]);
+        a.uvs = Some([glam::Vec2::new(0.5, 1.0); 3]);
+        let (obj, normals) = mesh_obj(&[&a, &b]);
+        assert!(normals);
+        assert_eq!(obj.matches("vn 0 0 1").count(), 6, "{obj}");
+        assert_eq!(obj.matches("vt 0.5 1").count(), 3, "{obj}");
+        assert_eq!(obj.matches("vt 0 0").count(), 3, "{obj}");
+        assert!(obj.contains("f 4/4/4 5/5/5 6/6/6"), "{obj}");
+        let (obj, normals) = mesh_obj(&[&b]);
+        assert!(!normals);
+        assert!(obj.ends_with("f 1 2 3\n"), "{obj}");
+    }
+}

@@ -1,0 +1,195 @@
+//! Image textures: decoded once to linear RGBA f32, looked up as Mitsuba 3's `bitmap` texture
+//! does (bilinear, repeat, v = 0 at the image's bottom row), and laid out for the GPU as the
+//! `scene.textures` texel view that `shaders/lib/texture.wgsl` reads.
+
+use glam::{Vec2, Vec4};
+use std::path::{Path, PathBuf};
+
+/// How an image's integer values become numbers: colour maps (`map_Kd`, `map_Ks`) are sRGB
+/// encoded, scalar maps (`map_Pr`, `map_d`) are read raw, as Mitsuba's `raw` flag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    Srgb,
+    Raw,
+}
+
+/// A decoded image; `texels` row-major with row 0 the image's top row (as files store it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub path: PathBuf,
+    pub encoding: Encoding,
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGBA; a grey image has r = g = b; alpha is 1 when the image has none.
+    pub texels: Vec<[f32; 4]>,
+}
+
+/// Mitsuba's `luminance` (Rec. 709 weights): what a scalar lookup of an RGB image returns.
+pub const LUMINANCE: [f32; 3] = [0.212_671, 0.715_160, 0.072_169];
+
+/// The sRGB transfer function's inverse (IEC 61966-2-1).
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl Texture {
+    /// Reads a PNG or JPEG. Integer images are normalised to [0, 1] and, for
+    /// [`Encoding::Srgb`], decoded from sRGB (alpha stays linear); float images are linear.
+    /// The error is the decoder's or the file system's message, for the caller to place.
+    pub fn load(path: &Path, encoding: Encoding) -> Result<Texture, String> {
+        let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+        let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
+        let integer = !matches!(
+            image.color(),
+            image::ColorType::Rgb32F | image::ColorType::Rgba32F
+        );
+        let (width, height) = (image.width(), image.height());
+        if width == 0 || height == 0 {
+            return Err("the image is empty".to_string());
+        }
+        let decode = |c: f32| {
+            if integer && encoding == Encoding::Srgb {
+                srgb_to_linear(c)
+            } else {
+                c
+            }
+        };
+        let texels = image
+            .to_rgba32f()
+            .pixels()
+            .map(|p| [decode(p[0]), decode(p[1]), decode(p[2]), p[3]])
+            .collect();
+        Ok(Texture {
+            path: path.to_path_buf(),
+            encoding,
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// A texture from linear texels (row 0 the top row), for tests and generated scenes.
+    pub fn from_texels(width: u32, height: u32, texels: Vec<[f32; 4]>) -> Texture {
+        assert_eq!(texels.len(), (width * height) as usize);
+        Texture {
+            path: PathBuf::new(),
+            encoding: Encoding::Raw,
+            width,
+            height,
+            texels,
+        }
+    }
+
+    fn texel(&self, x: i64, y: i64) -> Vec4 {
+        // Repeat: integer texel coordinates wrap around the image.
+        let x = x.rem_euclid(i64::from(self.width)) as usize;
+        let y = y.rem_euclid(i64::from(self.height)) as usize;
+        Vec4::from(self.texels[y * self.width as usize + x])
+    }
+
+    /// The CPU twin of `texture_bilinear` in `shaders/lib/texture.wgsl`: Mitsuba 3's bitmap
+    /// lookup. Its texture space has v pointing down the rows (its OBJ loader stores 1 - v),
+    /// texel centres at half-integers: p = (u, 1 - v) * size - 0.5, the four texels around p
+    /// weighted by p's fraction, their indices wrapped.
+    pub fn bilinear(&self, uv: Vec2) -> Vec4 {
+        let size = Vec2::new(self.width as f32, self.height as f32);
+        let p = Vec2::new(uv.x, 1.0 - uv.y).mul_add(size, Vec2::splat(-0.5));
+        let i = p.floor();
+        let w1 = p - i;
+        let w0 = Vec2::ONE - w1;
+        let (x, y) = (i.x as i64, i.y as i64);
+        (self.texel(x, y) * w0.x + self.texel(x + 1, y) * w1.x) * w0.y
+            + (self.texel(x, y + 1) * w0.x + self.texel(x + 1, y + 1) * w1.x) * w1.y
+    }
+}
+
+/// The `scene.textures` buffer: one header texel per texture (first texel, width, height, 0),
+/// then every texture's texels (linear RGBA f32, row 0 the image's top row). One zero texel
+/// when there are none, so that the view can be bound.
+pub fn textures_bytes(textures: &[Texture]) -> Vec<u8> {
+    let mut header: Vec<[u32; 4]> = Vec::with_capacity(textures.len());
+    let mut first = textures.len() as u32;
+    for t in textures {
+        header.push([first, t.width, t.height, 0]);
+        first += t.width * t.height;
+    }
+    let mut bytes: Vec<u8> = bytemuck::cast_slice(&header).to_vec();
+    for t in textures {
+        bytes.extend_from_slice(bytemuck::cast_slice(&t.texels));
+    }
+    if bytes.is_empty() {
+        bytes.resize(16, 0);
+    }
+    bytes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn checker() -> Texture {
+        // 2 x 2: top row red, green; bottom row blue, white.
+        Texture::from_texels(
+            2,
+            2,
+            vec![
+                [1.0, 0.0, 0.0, 1.0],
+                [0.0, 1.0, 0.0, 1.0],
+                [0.0, 0.0, 1.0, 1.0],
+                [1.0, 1.0, 1.0, 1.0],
+            ],
+        )
+    }
+
+    #[test]
+    fn texel_centres_return_the_texel_and_v_zero_is_the_bottom_row() {
+        let t = checker();
+        assert_eq!(
+            t.bilinear(Vec2::new(0.25, 0.75)),
+            Vec4::new(1.0, 0.0, 0.0, 1.0)
+        );
+        assert_eq!(
+            t.bilinear(Vec2::new(0.75, 0.75)),
+            Vec4::new(0.0, 1.0, 0.0, 1.0)
+        );
+        assert_eq!(
+            t.bilinear(Vec2::new(0.25, 0.25)),
+            Vec4::new(0.0, 0.0, 1.0, 1.0)
+        );
+        assert_eq!(
+            t.bilinear(Vec2::new(1.25, -0.75)),
+            Vec4::new(0.0, 0.0, 1.0, 1.0)
+        );
+    }
+
+    #[test]
+    fn between_centres_it_blends_and_wraps_across_the_edge() {
+        let t = checker();
+        // u = 0: halfway between the left column and (wrapped) the right column.
+        let c = t.bilinear(Vec2::new(0.0, 0.75));
+        assert!(
+            (c - Vec4::new(0.5, 0.5, 0.0, 1.0)).abs().max_element() < 1e-6,
+            "{c}"
+        );
+    }
+
+    #[test]
+    fn srgb_decoding_matches_the_standard() {
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
+        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_layout_has_a_header_texel_per_texture() {
+        let bytes = textures_bytes(&[checker(), checker()]);
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        assert_eq!(&words[..8], &[2, 2, 2, 0, 6, 2, 2, 0]);
+        assert_eq!(bytes.len(), 16 * (2 + 8));
+        assert_eq!(textures_bytes(&[]).len(), 16);
+    }
+}
