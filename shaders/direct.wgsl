@@ -11,6 +11,8 @@
 #include "lib/primary.wgsl"
 #include "lib/ray_texture.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/shading.wgsl"
+#include "lib/texture.wgsl"
 #include "lib/shading_point.wgsl"
 #include "lib/light_sample.wgsl"
 #include "lib/light_select.wgsl"
@@ -27,6 +29,8 @@
 @group(0) @binding(7) var out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 @group(0) @binding(9) var light_power: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(10) var shading: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(11) var textures: texture_storage_2d<rgba32uint, read>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

@@ -45,6 +45,8 @@
 #include "lib/tile_order.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/shading.wgsl"
+#include "lib/texture.wgsl"
 #include "lib/shading_point.wgsl"
 #include "lib/light_sample.wgsl"
 #include "lib/light_select.wgsl"

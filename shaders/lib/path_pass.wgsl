@@ -24,6 +24,8 @@ override samples_per_frame: u32 = 1u;
 @group(0) @binding(10) var indirect: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(11) var ambient: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(12) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+@group(0) @binding(13) var shading: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(14) var textures: texture_storage_2d<rgba32uint, read>;
 
 // The jittered primary ray of `pixel` for `source` and its closest hit (as intersect traces it).
 fn path_primary(pixel: vec2<u32>, source: SampleSource) -> Primary {

@@ -1,11 +1,12 @@
 // What shading needs at a ray's hit: the surface (geometric side and offsets), the shading
 // normal, the BSDF with textures applied, the emitted radiance toward the ray and the light the
-// triangle belongs to. The including shader declares `triangles` and `materials` and includes
-// scene, surface and bsdf.
+// triangle belongs to. The including shader declares `triangles`, `materials`, `shading` and
+// `textures` (scene.shading, scene.textures) and includes scene, surface, shading, texture
+// and bsdf.
 
 struct ShadingPoint {
     s: Surface,
-    // The shading normal on the ray's side (the geometric one until vertex normals exist).
+    // The shading normal (interpolated vertex normals, or the geometric one), on the ray's side.
     ns: vec3<f32>,
     b: Bsdf,
     // Ke on the front face, 0 on the back (emission is one-sided).
@@ -18,8 +19,12 @@ struct ShadingPoint {
 fn shading_point(triangle: u32, u: f32, v: f32, dir: vec3<f32>) -> ShadingPoint {
     let t = scene_triangle(triangles, triangle);
     let s = surface_at(t, u, v, dir);
-    let m = scene_material(materials, s.material);
-    return ShadingPoint(s, s.n, bsdf_from_material(m), select(vec3<f32>(0.0), m.ke, s.front), t.light);
+    let ns = shading_normal(shading, triangle, u, v, s.n);
+    var m = scene_material(materials, s.material);
+    if scene_has_textures {
+        m = material_at(m, textures, shading_uv(shading, triangle, u, v));
+    }
+    return ShadingPoint(s, ns, bsdf_from_material(m), select(vec3<f32>(0.0), m.ke, s.front), t.light);
 }
 
 // The origin of a ray leaving s toward wi: moved off the surface to wi's side (transmitted
