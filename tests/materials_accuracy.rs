@@ -50,7 +50,10 @@ fn material_regions(scene_path: &Path) -> BTreeMap<String, Vec<usize>> {
             }
             if let (true, Some(Some(m))) = (uniform, material) {
                 let name = scene.mesh.material_names[m as usize].clone();
-                regions.entry(name).or_default().push((y * SIZE + x) as usize);
+                regions
+                    .entry(name)
+                    .or_default()
+                    .push((y * SIZE + x) as usize);
             }
         }
     }
@@ -81,8 +84,14 @@ fn check_depth(depth: u32, frames: u32) {
     let scene = dir.path().join("scene.ron");
     let channels = "l0+direct+indirect";
     let graph = "graphs/pathtracer.ron";
-    let a = image(&render(&settings(graph, &scene, SIZE, 1, &[]), frames), channels);
-    let b = image(&render(&settings(graph, &scene, SIZE, 2, &[]), frames), channels);
+    let a = image(
+        &render(&settings(graph, &scene, SIZE, 1, &[]), frames),
+        channels,
+    );
+    let b = image(
+        &render(&settings(graph, &scene, SIZE, 2, &[]), frames),
+        channels,
+    );
     // Two independent halves of the reference (different seeds): their mean is the reference,
     // and a quarter of their mean squared difference its own noise.
     let half_a = reference(&format!("materials-128-depth{depth}-a.exr"));
