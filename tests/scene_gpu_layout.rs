@@ -38,7 +38,7 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 p1,
                 light,
                 p2,
-                pad2
+                opacity
             }),
         ),
         (

@@ -347,6 +347,36 @@ fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> Bvh
     return BvhWalk(i + 1u, walk.next, walk.end);
 }
 
+// Whether triangle k stops the ray. Cut-out surfaces (MTL d < 1: opacity, scene_has_cutouts)
+// let it pass with probability 1 - opacity, decided by a hash of the triangle and the ray
+// (as pbrt-v4's stochastic alpha test): the same ray always decides the same way, so a
+// shadow ray and the closest-hit ray agree, and over a pixel's jittered rays and light samples
+// the surface stops the fraction `opacity` of the light.
+fn bvh_stops(ray: BvhRay, k: u32) -> bool {
+    if (!scene_has_cutouts) {
+        return true;
+    }
+    let opacity = bitcast<f32>(scene_texel(triangles, 3u * k + 2u).w);
+    if (opacity >= 1.0) {
+        return true;
+    }
+    let o = bitcast<vec3<u32>>(ray.origin);
+    let d = bitcast<vec3<u32>>(ray.inv_dir);
+    var h = k * 747796405u + 2891336453u;
+    for (var i = 0u; i < 3u; i++) {
+        h = bvh_hash(h ^ o[i]);
+        h = bvh_hash(h ^ d[i]);
+    }
+    return f32(h >> 8u) * (1.0 / 16777216.0) < opacity;
+}
+
+// PCG's output permutation (rng.wgsl's pcg_hash, which not every includer of this file has).
+fn bvh_hash(x: u32) -> u32 {
+    let s = x * 747796405u + 2891336453u;
+    let w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return (w >> 22u) ^ w;
+}
+
 // The nearest hit with t in (tmin, tmax); ties go to the smaller triangle index, so the
 // answer does not depend on the order triangles are visited in.
 // Rays this invocation traced: passes that count rays add it to their `ray_count` buffer.
@@ -374,7 +404,7 @@ fn bvh_closest_hit(ray: BvhRay, tmin: f32, tmax: f32, flat: bool) -> Hit {
             let k = walk.next;
             let p = scene_triangle_vertices(triangles, k);
             let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
-            if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle))) {
+            if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle)) && bvh_stops(ray, k)) {
                 best = Hit(h.t, h.u, h.v, k);
             }
             walk.next = k + 1u;
@@ -412,7 +442,7 @@ fn bvh_any_hit(ray: BvhRay, root: u32, tmin: f32, tmax: f32, flat: bool) -> bool
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
             let p = scene_triangle_vertices(triangles, walk.next);
-            if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit) {
+            if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit && bvh_stops(ray, walk.next)) {
                 return true;
             }
             walk.next = walk.next + 1u;

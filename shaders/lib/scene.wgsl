@@ -20,7 +20,7 @@ override scene_max_depth: u32 = 3u;
 override scene_has_shading_normals: bool = true;
 override scene_has_uvs: bool = true;
 override scene_has_textures: bool = true;
-override scene_has_cutouts: bool = true;
+override scene_has_cutouts: bool = false;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
@@ -34,7 +34,8 @@ struct Triangle {
     p1: vec3<f32>,
     light: u32,
     p2: vec3<f32>,
-    pad2: u32,
+    // The fraction of rays the triangle stops (MTL d); bvh.wgsl lets the rest pass.
+    opacity: f32,
 }
 
 // A material: its model (`kind`, a MATERIAL_* constant) and the model's parameters
@@ -169,7 +170,7 @@ fn scene_triangle(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Triangl
     let b = scene_texel(view, 3u * i + 1u);
     let c = scene_texel(view, 3u * i + 2u);
     return Triangle(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
-                    bitcast<vec3<f32>>(c.xyz), c.w);
+                    bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w));
 }
 
 // The three vertices of triangle i only (what ray tests need).

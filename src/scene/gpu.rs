@@ -26,7 +26,9 @@ pub struct Triangle {
     pub p1: [f32; 3],
     pub light: u32,
     pub p2: [f32; 3],
-    pub pad2: u32,
+    /// The fraction of rays the triangle stops: its material's `opacity` (MTL `d`); below 1 a
+    /// ray passes through with probability 1 - opacity (shaders/lib/bvh.wgsl).
+    pub opacity: f32,
 }
 
 /// A material: its model (`kind`, one of the `MATERIAL_*` constants) and the model's
@@ -181,7 +183,7 @@ impl Triangle {
             p1: vertices[1].into(),
             light: NO_LIGHT,
             p2: vertices[2].into(),
-            pad2: 0,
+            opacity: 1.0,
         }
     }
 
@@ -353,6 +355,11 @@ impl SceneGpu {
             .collect();
         let materials = mesh.materials.clone();
         let lights = scene_lights(&triangles, &materials);
+        for t in &mut triangles {
+            t.opacity = materials
+                .get(t.material as usize)
+                .map_or(1.0, |m| m.opacity);
+        }
         for (index, light) in lights.iter().enumerate() {
             for t in light.triangles() {
                 triangles[t as usize].light = index as u32;
