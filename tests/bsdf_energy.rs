@@ -2,6 +2,7 @@
 //! furnace albedos from the samples' weights and from quadrature of eval.
 
 mod bsdf_support;
+mod common;
 
 use bsdf_support::{Case, Rng, cases, grid};
 use glam::Vec3;
@@ -39,7 +40,7 @@ fn estimate(case: &Case, seed: u64) -> Estimate {
     let (mut s, mut s2, mut t, mut t2) = (0.0, 0.0, 0.0, 0.0);
     for _ in 0..SAMPLES {
         let u = rng.vec2();
-        let smp = sample(&case.bsdf, case.n, case.outside, case.wo, u, rng.f32());
+        let smp = sample(&case.bsdf, case.n, case.outside, case.wo, u, rng.unit());
         let w = smp.weight.x as f64 * undo_radiance_scaling(case, smp.wi);
         s += w;
         s2 += w * w;

@@ -197,12 +197,12 @@ fn gpu_eval_pdf_and_sample_match_the_cpu_twin() {
         for _ in 0..100 {
             let mut wi = rng.sphere();
             // Half near the mirror direction, where near-smooth lobes are not zero.
-            if rng.f32() < 0.5 {
+            if rng.unit() < 0.5 {
                 let mirror = 2.0 * case.wo.dot(case.n) * case.n - case.wo;
                 wi = (mirror + 0.05 * rng.sphere()).normalize();
             }
             let u = rng.vec2();
-            queries.push(query(case, materials.table[c], wi, u, rng.f32()));
+            queries.push(query(case, materials.table[c], wi, u, rng.unit()));
             owners.push(c);
         }
     }
@@ -300,7 +300,7 @@ fn gpu_samples_follow_pdf_by_chi_square_and_weigh_eval_over_pdf() {
         let queries: Vec<Query> = (0..50_000)
             .map(|_| {
                 let u = rng.vec2();
-                query(case, materials.table[i], case.n, u, rng.f32())
+                query(case, materials.table[i], case.n, u, rng.unit())
             })
             .collect();
         let answers = run(&gpu, &materials, &queries);
@@ -350,7 +350,7 @@ fn a_lambert_only_scene_keeps_lambert_and_specialises_the_rest_away() {
                 .map(|_| {
                     let wi = rng.sphere();
                     let u = rng.vec2();
-                    query(case, materials.table[c], wi, u, rng.f32())
+                    query(case, materials.table[c], wi, u, rng.unit())
                 })
                 .collect::<Vec<_>>()
         })

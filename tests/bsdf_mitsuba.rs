@@ -5,6 +5,7 @@
 //! sample_visible, ext_ior 1).
 
 mod bsdf_support;
+mod common;
 
 use bsdf_support::bsdf;
 use glam::Vec3;

@@ -9,6 +9,7 @@
 //! eta the absolute index on each direction's side.
 
 mod bsdf_support;
+mod common;
 
 use bsdf_support::{Rng, materials, tilted_normal};
 use glam::Vec3;

@@ -3,6 +3,7 @@
 //! and the delta lobes' directions and probabilities.
 
 mod bsdf_support;
+mod common;
 
 use bsdf_support::{Case, Rng, cases, chi2_p_value, rounding_tolerance};
 use glam::Vec3;
@@ -18,7 +19,7 @@ fn draw(case: &Case, seed: u64) -> Vec<Sample> {
     (0..SAMPLES)
         .map(|_| {
             let u = rng.vec2();
-            sample(&case.bsdf, case.n, case.outside, case.wo, u, rng.f32())
+            sample(&case.bsdf, case.n, case.outside, case.wo, u, rng.unit())
         })
         .collect()
 }

@@ -5,7 +5,7 @@
 pub mod chi2;
 
 use chi2::chi2_test;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
 use passgraph::bsdf::plastic_tables::PlasticTable;
@@ -14,39 +14,9 @@ use passgraph::scene::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
 };
 
-/// SplitMix64: a fixed seed gives the same numbers everywhere.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1), 24 bits.
-    pub fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
-
-    pub fn vec2(&mut self) -> Vec2 {
-        Vec2::new(self.f32(), self.f32())
-    }
-
-    /// Uniform on the unit sphere.
-    pub fn sphere(&mut self) -> Vec3 {
-        let z = 1.0 - 2.0 * self.f32();
-        let phi = 2.0 * std::f32::consts::PI * self.f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-}
+// The seeded random source is the shared test one (tests/common/geometry.rs).
+#[allow(unused_imports)]
+pub use crate::common::geometry::Rng;
 
 /// A material seen from one direction: the inputs of eval / pdf / sample but wi.
 #[derive(Clone, Debug)]

@@ -10,6 +10,10 @@ use std::path::{Path, PathBuf};
 pub struct Rng(pub u64);
 
 impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
@@ -21,6 +25,18 @@ impl Rng {
     /// Uniform in [0, 1).
     pub fn unit(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    pub fn vec2(&mut self) -> glam::Vec2 {
+        glam::Vec2::new(self.unit(), self.unit())
+    }
+
+    /// Uniform on the unit sphere (by its z and azimuth).
+    pub fn sphere(&mut self) -> Vec3 {
+        let z = 1.0 - 2.0 * self.unit();
+        let phi = 2.0 * std::f32::consts::PI * self.unit();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
     }
 
     /// Uniform in 0..n.
