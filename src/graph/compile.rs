@@ -192,6 +192,7 @@ pub fn compile(
                 provided_overrides: b.provided_overrides.clone(),
                 uses: b.uses.clone(),
                 raster: b.raster.clone(),
+                footprint: pass.decl.footprint,
             }
         })
         .collect();

@@ -24,6 +24,26 @@ pub struct PassDecl {
     /// `entry` and `dispatch` are unused).
     #[serde(default, deserialize_with = "plain_option")]
     pub raster: Option<RasterDecl>,
+    /// Which pixels of the frame an invocation depends on: what decides whether an image can
+    /// be rendered in tiles (src/render/tiles.rs).
+    #[serde(default)]
+    pub footprint: Footprint,
+}
+
+/// Which pixels of the frame a pass's invocation for one pixel depends on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum Footprint {
+    /// Any (the default, as nothing else is safe to assume): a pass that reads neighbours (a
+    /// filter), pixels elsewhere (reprojection) or draws the frame's projection (a raster
+    /// pass). An image of a graph with such a pass is rendered whole, never in tiles.
+    #[default]
+    Image,
+    /// Its own pixel only: it reads and writes image-sized resources at its own pixel (or
+    /// within its own 8x8 block of pixels, as subgroups do), and takes rays and samples from
+    /// the pixel's place in the whole image (`frame.image_origin`, `frame.image_size`). An
+    /// image of a graph whose passes all declare it can be rendered in tiles, bit for bit as
+    /// whole. Not for `Workgroups` dispatches or raster passes.
+    Pixel,
 }
 
 /// The draw of a raster pass: its entry points, attachments and vertex count. Attachments are

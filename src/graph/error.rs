@@ -151,6 +151,9 @@ pub enum GraphError {
     #[error("{}: raster pass: {reason}", pass_file.display())]
     Raster { pass_file: PathBuf, reason: String },
 
+    #[error("{}: footprint: {reason}", pass_file.display())]
+    Footprint { pass_file: PathBuf, reason: String },
+
     #[error("{}: pass '{pass}', binding '{binding}' -> resource '{resource}': {reason}", graph.display())]
     BindingMismatch {
         graph: PathBuf,

@@ -1,7 +1,7 @@
 //! Reading graph and pass files from disk: RON with positions, pass lookup, shaders and reflection.
 
 use super::compose::{Flattened, IncludeTarget, Origins, PassOrigin, flatten};
-use super::decl::{GraphDecl, PassDecl};
+use super::decl::{Dispatch, Footprint, GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
 use super::reflect::{reflect, reflect_raster};
@@ -74,6 +74,7 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
             shader: shader_path,
         });
     }
+    check_footprint(file, &decl)?;
     let shader = ShaderSource::load(&shader_path, &shader_root)?;
     let interface = match &decl.raster {
         Some(raster) => reflect_raster(&shader, &raster.vertex, &raster.fragment)?,
@@ -84,6 +85,25 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
         decl,
         shader,
         interface,
+    })
+}
+
+/// `footprint: Pixel` promises that one pixel's invocation depends on that pixel alone, which
+/// only a pass dispatched per pixel (or per tile of pixels) can keep.
+fn check_footprint(file: &Path, decl: &PassDecl) -> Result<(), GraphError> {
+    if decl.footprint != Footprint::Pixel {
+        return Ok(());
+    }
+    let reason = if decl.raster.is_some() {
+        "a raster pass draws the whole frame's projection, so it cannot declare `footprint: Pixel` (its image is never rendered in tiles); remove the field"
+    } else if let Dispatch::Workgroups(..) = decl.dispatch {
+        "a `Workgroups` dispatch is not one invocation per pixel, so it cannot declare `footprint: Pixel`; dispatch PerPixel or PerTile, or remove the field"
+    } else {
+        return Ok(());
+    };
+    Err(GraphError::Footprint {
+        pass_file: file.to_path_buf(),
+        reason: reason.to_string(),
     })
 }
 

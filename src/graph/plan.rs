@@ -1,7 +1,7 @@
 //! The compiled graph: what the GPU executor records and what graph tests assert on.
 
 use super::compose::PassOrigin;
-use super::decl::LoadOp;
+use super::decl::{Footprint, LoadOp};
 use super::format::TextureFormat;
 use super::id::{KeptPass, ResourceId};
 use super::interface::{Access, BindingKind};
@@ -119,6 +119,8 @@ pub struct PlannedPass {
     pub uses: Vec<(ResourceId, Access)>,
     /// For a raster pass: its draw (then `entry`, `workgroups` and `workgroup_size` are unused).
     pub raster: Option<PlannedRaster>,
+    /// Which pixels one pixel's invocation depends on (the pass file's `footprint`).
+    pub footprint: Footprint,
 }
 
 /// A raster pass's draw: entry points, attachments bound to graph textures, vertex count.
