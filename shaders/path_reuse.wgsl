@@ -98,7 +98,7 @@ fn main(
     let member = lane % members;
     let base = lane - member;
     // The group's first lane's pixel, whose sequence the group's bounce directions share.
-    let first_pixel = subgroupShuffle(id.y * frame.width + id.x, base);
+    let first_pixel = subgroupShuffle(image_pixel_index(id.xy + frame.image_origin), base);
 
     var sum_l0 = vec3<f32>(0.0);
     var sum_direct = vec3<f32>(0.0);

@@ -115,7 +115,9 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 seed,
                 tile_row_stride,
                 pad1,
-                pad2
+                pad2,
+                image_origin,
+                image_size
             }),
         ),
     ];

@@ -12,5 +12,5 @@ fn frame_jitter() -> vec2<f32> {
     if !pixel_jitter {
         return vec2<f32>(0.5);
     }
-    return sample_2d(sample_source(vec2<u32>(0u), 1u, 0u), DIM_PIXEL);
+    return sample_2d(image_sample_source(vec2<u32>(0u), 1u, 0u), DIM_PIXEL);
 }

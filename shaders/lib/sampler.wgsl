@@ -58,10 +58,21 @@ struct SampleSource {
 }
 
 // The includer declares `frame` (Frame) and includes scene.wgsl and rng.wgsl. `samples_per_frame`
-// and `k` let one frame hold several samples (sample k of the frame).
+// and `k` let one frame hold several samples (sample k of the frame). `pixel` is the frame's
+// (a tile's, when the image is rendered in tiles); the sequence is the whole image's pixel's.
 fn sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSource {
+    return image_sample_source(pixel + frame.image_origin, samples_per_frame, k);
+}
+
+// As sample_source, for a pixel of the whole image.
+fn image_sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSource {
     let frame_index = select(frame.index, frame.accumulated, sample_index_restarts);
-    return SampleSource(pixel.y * frame.width + pixel.x, frame_index * samples_per_frame + k, frame.seed);
+    return SampleSource(image_pixel_index(pixel), frame_index * samples_per_frame + k, frame.seed);
+}
+
+// The index of a pixel of the whole image, row-major: what names its sample sequence.
+fn image_pixel_index(pixel: vec2<u32>) -> u32 {
+    return pixel.y * frame.image_size.x + pixel.x;
 }
 
 // Part j of `count` splitting one sample (several bounces, several light samples): sample

@@ -150,6 +150,13 @@ struct Frame {
     tile_row_stride: u32,
     pad1: u32,
     pad2: u32,
+    // Where this frame's pixel (0, 0) lies in the whole image, and the whole image's size:
+    // (0, 0) and (width, height) unless the image is rendered in tiles (src/render/tiles.rs).
+    // width and height above are the tile's: bounds and buffer indices are the tile's, while
+    // camera rays (lib/camera_ray.wgsl) and sampler seeds (lib/sampler.wgsl) take the pixel's
+    // place in the image, so a tiled render equals the untiled one bit for bit.
+    image_origin: vec2<u32>,
+    image_size: vec2<u32>,
 }
 
 // Texel views: a pass may bind scene.triangles, scene.materials, scene.lights and scene.bvh as

@@ -9,3 +9,4 @@ pub mod output_texture;
 pub mod provided;
 pub mod session;
 pub mod tile_order;
+pub mod tiles;

@@ -7,6 +7,7 @@ use crate::gpu::ProvidedData;
 use crate::graph::param::ParamType;
 use crate::graph::provided::{ProvidedKind, ProvidedSet};
 use crate::render::tile_order::tile_row_stride;
+use crate::render::tiles::Tile;
 use crate::scene::gpu::{Frame, GpuCamera};
 use crate::scene::{Scene, SceneGpu};
 use bytemuck::Zeroable;
@@ -25,7 +26,8 @@ const TEXEL_READERS: &str = "shaders/lib/scene.wgsl";
 pub struct ProvidedInputs<'a> {
     pub scene: &'a Scene,
     pub gpu: &'a SceneGpu,
-    pub size: [u32; 2],
+    /// What of the image the session renders (all of it unless tiled).
+    pub tile: Tile,
     pub seed: u32,
 }
 
@@ -90,7 +92,9 @@ const RESOURCES: &[Resource] = &[
         name: CAMERA,
         kind: ProvidedKind::Uniform,
         what: "the pinhole camera",
-        bytes: |i| bytemuck::bytes_of(&i.scene.camera.to_gpu(i.size[0], i.size[1])).to_vec(),
+        bytes: |i| {
+            bytemuck::bytes_of(&i.scene.camera.to_gpu(i.tile.image[0], i.tile.image[1])).to_vec()
+        },
     },
     Resource {
         name: CAMERA_PREVIOUS,
@@ -101,8 +105,8 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: FRAME,
         kind: ProvidedKind::Uniform,
-        what: "frame index, accumulated frame count, output size, user seed",
-        bytes: |i| frame_bytes(i.size, i.seed, 0, 0),
+        what: "frame index, accumulated frame count, output size, user seed, the tile's place in the image",
+        bytes: |i| tile_frame_bytes(i.tile, i.seed, 0, 0),
     },
 ];
 
@@ -201,8 +205,14 @@ pub fn provided_data(inputs: &ProvidedInputs) -> ProvidedData {
     data
 }
 
-/// The `frame` uniform's bytes.
+/// The `frame` uniform's bytes for a whole image of `size`.
 pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
+    tile_frame_bytes(Tile::whole(size), seed, index, accumulated)
+}
+
+/// The `frame` uniform's bytes for one tile of an image (or all of it).
+pub fn tile_frame_bytes(tile: Tile, seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
+    let size = tile.size;
     let frame = Frame {
         index,
         accumulated,
@@ -210,6 +220,8 @@ pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> V
         height: size[1],
         seed,
         tile_row_stride: tile_row_stride(size[1]),
+        image_origin: tile.origin,
+        image_size: tile.image,
         ..Default::default()
     };
     bytemuck::bytes_of(&frame).to_vec()
@@ -230,7 +242,7 @@ mod tests {
         let data = provided_data(&ProvidedInputs {
             scene: &scene,
             gpu: &gpu,
-            size: [8, 8],
+            tile: Tile::whole([8, 8]),
             seed: 0,
         });
         let set = path_tracer();

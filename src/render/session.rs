@@ -4,8 +4,9 @@ use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_channel, texture_image};
 use super::provided::{
-    CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, frame_bytes, path_tracer, provided_data,
+    CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame_bytes,
 };
+use super::tiles::Tile;
 use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
@@ -102,7 +103,10 @@ pub struct Session {
     executor: Executor,
     scene: Scene,
     gpu_scene: SceneGpu,
+    /// The frame's size: the image's, or one tile's (`tile.size`).
     size: [u32; 2],
+    /// What of the image the session renders: all of it unless the image is rendered in tiles.
+    tile: Tile,
     seed: u32,
     /// Frames submitted since the session started.
     index: u32,
@@ -164,47 +168,43 @@ impl Session {
     }
 
     fn build_loaded(
-        mut graph: LoadedGraph,
+        graph: LoadedGraph,
         settings: &RenderSettings,
         shown: Option<&ChannelSelection>,
         context: impl FnOnce() -> Result<GpuContext, GpuError>,
     ) -> Result<Session, RenderError> {
-        let source_files = graph_files(&graph);
-        for s in &settings.set {
-            set_param(&mut graph, s)?;
-        }
-        let mut keep = match &settings.keep {
-            Keep::Outputs => Vec::new(),
-            Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
+        let graph = prepare_graph(graph, settings, shown)?;
+        let plan = compile_for(&graph, settings.size, shown)?;
+        let scene = load_scene_for(settings)?;
+        Session::from_plan(
+            context()?,
+            &graph,
+            plan,
+            settings,
+            Tile::whole(settings.size),
+            Some(scene),
+        )
+    }
+
+    /// A session of a graph made by [`prepare_graph`] and compiled for `tile.size` by
+    /// [`compile_for`]; the scene is loaded from `settings.scene` unless given (a tiled render
+    /// loads it once for all its tiles).
+    pub(crate) fn from_plan(
+        ctx: GpuContext,
+        graph: &LoadedGraph,
+        plan: Plan,
+        settings: &RenderSettings,
+        tile: Tile,
+        scene: Option<(Scene, SceneGpu)>,
+    ) -> Result<Session, RenderError> {
+        let (scene, gpu_scene) = match scene {
+            Some(loaded) => loaded,
+            None => load_scene_for(settings)?,
         };
-        if let Some(ChannelSelection::Texture(name)) = shown {
-            keep.push(
-                texture_channel(name)
-                    .map_err(RenderError::Other)?
-                    .0
-                    .to_string(),
-            );
-        }
-        for name in keep {
-            // A name the graph lacks stays unkept: showing it then says what the graph has.
-            if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
-                graph.decl.outputs.push(name);
-            }
-        }
-        let plan = compile(&graph, settings.size, path_tracer())?;
-        if let Some(channel) = shown {
-            check_render_contract(&plan, channel)?;
-        }
-        let mut scene = load_scene(&settings.scene)?;
-        if let Some(depth) = settings.max_depth {
-            scene.max_depth = depth;
-        }
-        let gpu_scene = scene.to_gpu();
-        let ctx = context()?;
         let provided = provided_data(&ProvidedInputs {
             scene: &scene,
             gpu: &gpu_scene,
-            size: settings.size,
+            tile,
             seed: settings.seed,
         });
         let executor = Executor::new(&ctx, &plan, &provided)?;
@@ -214,16 +214,102 @@ impl Session {
             executor,
             scene,
             gpu_scene,
-            size: settings.size,
+            size: tile.size,
+            tile,
             seed: settings.seed,
             index: 0,
             accumulated: 0,
             max_frames: settings.max_frames,
-            source_files,
+            source_files: graph_files(graph),
             previous_camera: None,
         })
     }
 
+    /// Moves the session to another tile of its size, as a new session there would start:
+    /// frame 0, no history, every persistent resource zero (dropped samples and ray counts
+    /// too: read them before).
+    pub(crate) fn start_tile(&mut self, tile: Tile) -> Result<(), RenderError> {
+        if tile.size != self.size || tile.image != self.tile.image {
+            return Err(RenderError::Other(format!(
+                "a session of {}x{} tiles cannot render a {}x{} tile",
+                self.size[0], self.size[1], tile.size[0], tile.size[1]
+            )));
+        }
+        for r in self.plan.resources.iter() {
+            if r.persistent && r.physical.is_some() {
+                let zeros = vec![0u8; r.kind.bytes() as usize];
+                self.executor.write_resource(&r.name, &zeros)?;
+            }
+        }
+        self.tile = tile;
+        self.index = 0;
+        self.accumulated = 0;
+        self.previous_camera = None;
+        Ok(())
+    }
+
+    /// The part of the image this session renders.
+    pub fn tile(&self) -> Tile {
+        self.tile
+    }
+}
+
+/// Loads `settings.scene` with `settings.max_depth` applied, and its GPU form.
+pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneGpu), RenderError> {
+    let mut scene = load_scene(&settings.scene)?;
+    if let Some(depth) = settings.max_depth {
+        scene.max_depth = depth;
+    }
+    let gpu_scene = scene.to_gpu();
+    Ok((scene, gpu_scene))
+}
+
+/// The graph as a session runs it: `settings.set` applied, and the textures the session keeps
+/// (`settings.keep`, the texture channel `shown`) made outputs.
+pub(crate) fn prepare_graph(
+    mut graph: LoadedGraph,
+    settings: &RenderSettings,
+    shown: Option<&ChannelSelection>,
+) -> Result<LoadedGraph, RenderError> {
+    for s in &settings.set {
+        set_param(&mut graph, s)?;
+    }
+    let mut keep = match &settings.keep {
+        Keep::Outputs => Vec::new(),
+        Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
+    };
+    if let Some(ChannelSelection::Texture(name)) = shown {
+        keep.push(
+            texture_channel(name)
+                .map_err(RenderError::Other)?
+                .0
+                .to_string(),
+        );
+    }
+    for name in keep {
+        // A name the graph lacks stays unkept: showing it then says what the graph has.
+        if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
+            graph.decl.outputs.push(name);
+        }
+    }
+    Ok(graph)
+}
+
+/// The plan of a graph made by [`prepare_graph`] for frames of `size`, checked against what
+/// `render` reads back for `shown`.
+pub(crate) fn compile_for(
+    graph: &LoadedGraph,
+    size: [u32; 2],
+    shown: Option<&ChannelSelection>,
+) -> Result<Plan, RenderError> {
+    let plan = compile(graph, size, path_tracer())?;
+    if let Some(channel) = shown {
+        check_render_contract(&plan, channel)?;
+    }
+    Ok(plan)
+}
+
+impl Session {
     /// Every file the graph was built from: the graph, its pass files, their shaders and the
     /// shaders' includes (what a hot reload watches).
     pub fn source_files(&self) -> &[PathBuf] {
@@ -252,7 +338,7 @@ impl Session {
         if self.accumulated >= self.max_frames {
             return Ok(false);
         }
-        let frame = frame_bytes(self.size, self.seed, self.index, self.accumulated);
+        let frame = tile_frame_bytes(self.tile, self.seed, self.index, self.accumulated);
         self.executor.update_uniform(FRAME, &frame)?;
         let previous = self.previous_camera.unwrap_or_else(GpuCamera::zeroed);
         self.executor
@@ -283,7 +369,9 @@ impl Session {
 
     /// Moves the camera; the accumulation restarts, as any view change must.
     pub fn set_camera(&mut self, camera: CameraDesc) -> Result<(), RenderError> {
-        let gpu = camera.to_gpu(self.size[0], self.size[1]);
+        // The whole image's camera: a tile is a window of it.
+        let [w, h] = self.tile.image;
+        let gpu = camera.to_gpu(w, h);
         self.executor
             .update_uniform(CAMERA, bytemuck::bytes_of(&gpu))?;
         self.scene.camera = camera;
@@ -294,7 +382,8 @@ impl Session {
     }
 
     fn gpu_camera(&self) -> GpuCamera {
-        self.scene.camera.to_gpu(self.size[0], self.size[1])
+        let [w, h] = self.tile.image;
+        self.scene.camera.to_gpu(w, h)
     }
 
     /// The accumulation buffer: planes of width*height [mean r, g, b, sample count].

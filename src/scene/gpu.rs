@@ -164,6 +164,11 @@ pub struct Frame {
     pub tile_row_stride: u32,
     pub pad1: u32,
     pub pad2: u32,
+    /// Where this frame's pixel (0, 0) lies in the whole image, and the whole image's size:
+    /// (0, 0) and (width, height) unless the image is rendered in tiles (`render::tiles`), so
+    /// that rays and samples follow the pixel's place in the image, not in the tile.
+    pub image_origin: [u32; 2],
+    pub image_size: [u32; 2],
 }
 
 // WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
@@ -173,7 +178,7 @@ const _: () = assert!(size_of::<TriangleShading>() == 64);
 const _: () = assert!(size_of::<GpuBvhGrid>() == 32);
 const _: () = assert!(size_of::<PackedBvhNode>() == 16);
 const _: () = assert!(size_of::<GpuCamera>() == 64);
-const _: () = assert!(size_of::<Frame>() == 32);
+const _: () = assert!(size_of::<Frame>() == 48);
 
 impl Triangle {
     pub fn new(vertices: [Vec3; 3], material: u32) -> Triangle {

@@ -1,0 +1,488 @@
+//! Big images: rendering an image in tiles when the graph's resources for the whole image
+//! exceed the device's limits (on lavapipe `result`, 80 bytes per pixel, passes the 128 MiB
+//! storage-binding limit above 1,677,721 pixels), or when asked (`render --tile WxH`).
+//!
+//! Each tile is rendered by a session whose graph is compiled for the tile's size and whose
+//! `frame` uniform carries the tile's origin in the image and the image's size; camera rays and
+//! sampler seeds follow the pixel's place in the image (shaders/lib/camera_ray.wgsl,
+//! shaders/lib/sampler.wgsl), so a tiled image equals the whole render bit for bit. Only graphs
+//! whose passes all declare `footprint: Pixel` (src/graph/decl.rs) are tiled: a filter or a
+//! reprojection reads other pixels, which a tile's edge would lack. Tiles are rendered one after
+//! another, all frames of one tile, then the next, so only one tile's resources are alive; a
+//! session is reused for the next tile of its size (pipelines are built once per tile size).
+//! A tile is also a unit of work a render farm could hand out.
+
+use super::channels::ChannelSelection;
+use super::image::RgbImage;
+use super::session::{
+    RenderError, RenderSettings, Session, compile_for, load_scene_for, prepare_graph,
+};
+use super::tile_order::TILE;
+use crate::gpu::GpuContext;
+use crate::gpu::limits::check_limits;
+use crate::graph::decl::{Footprint, ResourceDecl, TextureSize};
+use crate::graph::load::{LoadedGraph, load_graph};
+use crate::graph::plan::Plan;
+use crate::scene::{Scene, SceneGpu};
+
+/// The part of the image a session renders: a tile, or the whole image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    /// Its top-left pixel in the image.
+    pub origin: [u32; 2],
+    pub size: [u32; 2],
+    /// The whole image's size.
+    pub image: [u32; 2],
+}
+
+impl Tile {
+    pub fn whole(size: [u32; 2]) -> Tile {
+        Tile {
+            origin: [0, 0],
+            size,
+            image: size,
+        }
+    }
+}
+
+/// An image cut into tiles of `tile` pixels, row by row; the last column and row are narrower
+/// where the tile does not divide the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tiling {
+    pub image: [u32; 2],
+    pub tile: [u32; 2],
+}
+
+impl Tiling {
+    /// Tile sides must be multiples of 8, so that the passes' 8x8 workgroups (and the subgroups
+    /// within them that shaders/path_reuse.wgsl shares work across) cover the same pixels as in
+    /// the whole image; a side at least the image's is the image's.
+    pub fn new(image: [u32; 2], tile: [u32; 2]) -> Result<Tiling, String> {
+        let tile = [tile[0].min(image[0]), tile[1].min(image[1])];
+        for k in 0..2 {
+            if !tile[k].is_multiple_of(TILE) && tile[k] != image[k] {
+                return Err(format!(
+                    "tile {}x{}: each side must be a multiple of {TILE} (the passes' workgroups are {TILE}x{TILE} pixels) or the image's ({}x{})",
+                    tile[0], tile[1], image[0], image[1]
+                ));
+            }
+        }
+        Ok(Tiling { image, tile })
+    }
+
+    /// Every tile, row by row.
+    pub fn tiles(&self) -> Vec<Tile> {
+        let [w, h] = self.image;
+        let [tw, th] = self.tile;
+        (0..h.div_ceil(th))
+            .flat_map(|row| {
+                (0..w.div_ceil(tw)).map(move |column| {
+                    let origin = [column * tw, row * th];
+                    Tile {
+                        origin,
+                        size: [tw.min(w - origin[0]), th.min(h - origin[1])],
+                        image: self.image,
+                    }
+                })
+            })
+            .collect()
+    }
+}
+
+/// Why the graph cannot be rendered in tiles, naming the pass or resource; `None` if it can.
+pub fn untileable(graph: &LoadedGraph, plan: &Plan) -> Option<String> {
+    if let Some(pass) = plan.passes.iter().find(|p| p.footprint != Footprint::Pixel) {
+        return Some(format!(
+            "pass '{}' ({}) does not declare `footprint: Pixel`: it may read other pixels than its own (a filter, a reprojection) or draw the frame's projection (a raster pass), which a tile's edge would change",
+            pass.name,
+            pass.pass_file.display()
+        ));
+    }
+    graph.decl.resources.iter().find_map(|(name, r)| match r {
+        ResourceDecl::Texture {
+            size: TextureSize::Scaled(f),
+            ..
+        } if *f != 1.0 => Some(format!(
+            "resource '{name}' is Scaled({f}): its texels are not the tile's pixels"
+        )),
+        _ => None,
+    })
+}
+
+/// GPU memory of a plan's resources (after transient reuse), per pixel of its frame.
+pub fn bytes_per_pixel(plan: &Plan) -> f64 {
+    let [w, h] = plan.output_size;
+    plan.bytes_allocated() as f64 / (f64::from(w) * f64::from(h))
+}
+
+/// A render of the whole image at once, or in tiles: what `passgraph render` runs.
+pub enum ImageRender {
+    Whole(Box<Session>),
+    Tiled(Box<TiledRender>),
+}
+
+impl ImageRender {
+    /// Checks the graph against what `render` reads back for `channel` (before any GPU work),
+    /// then renders the image whole if its plan fits the device and no `tile` is asked for, in
+    /// tiles of `tile` if asked, else in the largest tiles that fit. A graph that does not fit
+    /// whole and cannot be tiled is an error naming the pass and the largest untiled size.
+    pub fn for_render(
+        settings: &RenderSettings,
+        channel: &ChannelSelection,
+        tile: Option<[u32; 2]>,
+    ) -> Result<ImageRender, RenderError> {
+        let shown = Some(channel);
+        let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown)?;
+        let plan = compile_for(&graph, settings.size, shown)?;
+        let requested = tile
+            .map(|t| Tiling::new(settings.size, t))
+            .transpose()
+            .map_err(RenderError::Other)?;
+        let scene = load_scene_for(settings)?;
+        let ctx = GpuContext::new(settings.adapter.as_deref())?;
+        let (limits, features) = (ctx.device().limits(), ctx.device().features());
+        let fits = |size: [u32; 2]| -> Result<bool, RenderError> {
+            let plan = compile_for(&graph, size, shown)?;
+            Ok(check_limits(&plan, &limits, features).is_ok())
+        };
+        let tiling = match (requested, check_limits(&plan, &limits, features)) {
+            (Some(tiling), _) => tiling,
+            (None, Ok(())) => {
+                let whole = Tile::whole(settings.size);
+                let session = Session::from_plan(ctx, &graph, plan, settings, whole, Some(scene))?;
+                return Ok(ImageRender::Whole(Box::new(session)));
+            }
+            (None, Err(over)) => {
+                // Not a matter of size if even the smallest tile is over a limit.
+                if !fits([TILE.min(settings.size[0]), TILE.min(settings.size[1])])? {
+                    return Err(over.into());
+                }
+                if let Some(why) = untileable(&graph, &plan) {
+                    let largest = largest_untiled(settings.size, &fits)?;
+                    return Err(RenderError::Other(format!(
+                        "{over}; {}x{} cannot be rendered in tiles instead: {why}. The largest image of this aspect ratio the graph renders untiled on this device is {}x{}",
+                        settings.size[0], settings.size[1], largest[0], largest[1]
+                    )));
+                }
+                largest_tiling(settings.size, &fits)?
+            }
+        };
+        if let Some(why) = untileable(&graph, &plan) {
+            return Err(RenderError::Other(format!(
+                "{}: cannot render in tiles: {why}",
+                settings.graph.display()
+            )));
+        }
+        TiledRender::new(ctx, graph, settings, channel, tiling, scene)
+            .map(|t| ImageRender::Tiled(Box::new(t)))
+    }
+
+    /// The session rendering the whole image, if not tiled (camera paths need one).
+    pub fn whole_mut(&mut self) -> Option<&mut Session> {
+        match self {
+            ImageRender::Whole(s) => Some(s),
+            ImageRender::Tiled(_) => None,
+        }
+    }
+
+    /// The session of the current tile (or of the whole image).
+    pub fn session(&self) -> &Session {
+        match self {
+            ImageRender::Whole(s) => s,
+            ImageRender::Tiled(t) => &t.session,
+        }
+    }
+
+    /// Calls of [`Self::render_frame`] that render `frames` frames of every tile.
+    pub fn steps(&self, frames: u32) -> u64 {
+        let tiles = match self {
+            ImageRender::Whole(_) => 1,
+            ImageRender::Tiled(t) => t.tiles.len() as u64,
+        };
+        u64::from(frames) * tiles
+    }
+
+    /// One frame of the current tile (or of the whole image); a tile that has its frames is
+    /// read back and the next one started.
+    pub fn render_frame(&mut self) -> Result<(), RenderError> {
+        match self {
+            ImageRender::Whole(s) => s.render_frame().map(|_| ()),
+            ImageRender::Tiled(t) => t.render_frame(),
+        }
+    }
+
+    /// The image: tiles not rendered yet are black.
+    pub fn image(&self, channel: &ChannelSelection) -> Result<RgbImage, RenderError> {
+        match self {
+            ImageRender::Whole(s) => s.image(channel),
+            ImageRender::Tiled(t) => Ok(t.image.clone()),
+        }
+    }
+
+    pub fn dropped(&self) -> Result<u32, RenderError> {
+        match self {
+            ImageRender::Whole(s) => s.dropped(),
+            ImageRender::Tiled(t) => Ok(t.dropped),
+        }
+    }
+
+    pub fn rays_counted(&self) -> Result<Option<u64>, RenderError> {
+        match self {
+            ImageRender::Whole(s) => s.rays_counted(),
+            ImageRender::Tiled(t) => Ok(t.rays),
+        }
+    }
+
+    /// Frames accumulated in every pixel (of the finished tiles).
+    pub fn accumulated(&self) -> u32 {
+        match self {
+            ImageRender::Whole(s) => s.accumulated(),
+            ImageRender::Tiled(t) => t.accumulated,
+        }
+    }
+
+    /// The tiling, if tiled.
+    pub fn tiling(&self) -> Option<Tiling> {
+        match self {
+            ImageRender::Whole(_) => None,
+            ImageRender::Tiled(t) => Some(t.tiling),
+        }
+    }
+
+    /// What `render` prints about GPU memory: bytes per pixel of the graph's resources and
+    /// what the whole image or each tile holds.
+    pub fn memory_line(&self) -> String {
+        let plan = self.session().plan();
+        let per_pixel = bytes_per_pixel(plan);
+        let bytes = crate::graph::plan_text::human_bytes(plan.bytes_allocated());
+        match self.tiling() {
+            None => format!(
+                "memory: {per_pixel:.1} GPU bytes per pixel (graph resources after reuse), {bytes} for {}x{}",
+                plan.output_size[0], plan.output_size[1]
+            ),
+            Some(t) => format!(
+                "memory: {per_pixel:.1} GPU bytes per pixel (graph resources after reuse), {bytes} per {}x{} tile; {} tiles of the {}x{} image, rendered one after another",
+                t.tile[0],
+                t.tile[1],
+                t.tiles().len(),
+                t.image[0],
+                t.image[1]
+            ),
+        }
+    }
+}
+
+/// The largest tiling that fits: tiles as wide as the image if a strip 8 rows high fits (else
+/// the fewest columns that do), as many rows as fit, then evened out so that the tiles are
+/// nearly equal (no thin last strip).
+fn largest_tiling(
+    image: [u32; 2],
+    fits: &dyn Fn([u32; 2]) -> Result<bool, RenderError>,
+) -> Result<Tiling, RenderError> {
+    let [w, h] = image;
+    let side = |extent: u32, parts: u32| extent.div_ceil(parts).next_multiple_of(TILE).min(extent);
+    let mut columns = 1;
+    while !fits([side(w, columns), TILE.min(h)])? {
+        columns += 1;
+    }
+    let width = side(w, columns);
+    // The largest multiple of 8 rows that fits, by bisection (fits is monotonic in rows).
+    let (mut lo, mut hi) = (1, h.div_ceil(TILE));
+    while lo < hi {
+        let mid = (lo + hi).div_ceil(2);
+        if fits([width, (mid * TILE).min(h)])? {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    let rows = h.div_ceil((lo * TILE).min(h));
+    Tiling::new(image, [width, side(h, rows)]).map_err(RenderError::Other)
+}
+
+/// The largest image with `image`'s aspect ratio that fits untiled.
+fn largest_untiled(
+    image: [u32; 2],
+    fits: &dyn Fn([u32; 2]) -> Result<bool, RenderError>,
+) -> Result<[u32; 2], RenderError> {
+    let [w, h] = image;
+    let at = |height: u32| {
+        let width = (u64::from(w) * u64::from(height)).div_ceil(u64::from(h)) as u32;
+        [width.max(1), height]
+    };
+    let (mut lo, mut hi) = (1, h);
+    while lo < hi {
+        let mid = (lo + hi).div_ceil(2);
+        if fits(at(mid))? {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    Ok(at(lo))
+}
+
+/// Tiles rendered one after another: the current tile's session, and the image and counters
+/// of the tiles done.
+pub struct TiledRender {
+    graph: LoadedGraph,
+    settings: RenderSettings,
+    channel: ChannelSelection,
+    scene: (Scene, SceneGpu),
+    tiling: Tiling,
+    /// In rendering order: grouped by size, so a session serves each run of equal tiles.
+    tiles: Vec<Tile>,
+    /// Index into `tiles` of the tile `session` renders.
+    current: usize,
+    session: Session,
+    image: RgbImage,
+    dropped: u32,
+    rays: Option<u64>,
+    /// Frames per pixel of the tiles done.
+    accumulated: u32,
+}
+
+impl TiledRender {
+    fn new(
+        ctx: GpuContext,
+        graph: LoadedGraph,
+        settings: &RenderSettings,
+        channel: &ChannelSelection,
+        tiling: Tiling,
+        scene: (Scene, SceneGpu),
+    ) -> Result<TiledRender, RenderError> {
+        let mut tiles = tiling.tiles();
+        // Stable: row order within each size.
+        tiles.sort_by_key(|t| std::cmp::Reverse(t.size));
+        let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene)?;
+        let [w, h] = tiling.image;
+        Ok(TiledRender {
+            graph,
+            settings: settings.clone(),
+            channel: channel.clone(),
+            scene,
+            tiling,
+            tiles,
+            current: 0,
+            session,
+            image: RgbImage {
+                width: w,
+                height: h,
+                pixels: vec![[0.0; 3]; w as usize * h as usize],
+            },
+            dropped: 0,
+            rays: None,
+            accumulated: 0,
+        })
+    }
+
+    fn render_frame(&mut self) -> Result<(), RenderError> {
+        if self.current >= self.tiles.len() {
+            return Ok(());
+        }
+        self.session.render_frame()?;
+        if self.session.accumulated() < self.settings.max_frames {
+            return Ok(());
+        }
+        self.finish_tile()?;
+        self.current += 1;
+        let Some(&next) = self.tiles.get(self.current) else {
+            return Ok(());
+        };
+        if next.size == self.session.tile().size {
+            self.session.start_tile(next)
+        } else {
+            // The next size's session is built before this one is dropped: at a change of size
+            // (at most three per image, each to smaller tiles) two tiles' resources are alive
+            // for a moment.
+            let ctx = self.session.context().clone();
+            self.session = tile_session(
+                ctx,
+                &self.graph,
+                &self.settings,
+                &self.channel,
+                next,
+                &self.scene,
+            )?;
+            Ok(())
+        }
+    }
+
+    /// Copies the current tile into the image and adds its counters.
+    fn finish_tile(&mut self) -> Result<(), RenderError> {
+        let tile = self.session.tile();
+        let part = self.session.image(&self.channel)?;
+        let width = self.image.width as usize;
+        for (y, row) in part.pixels.chunks_exact(tile.size[0] as usize).enumerate() {
+            let start = (tile.origin[1] as usize + y) * width + tile.origin[0] as usize;
+            self.image.pixels[start..start + row.len()].copy_from_slice(row);
+        }
+        self.dropped += self.session.dropped()?;
+        if let Some(rays) = self.session.rays_counted()? {
+            *self.rays.get_or_insert(0) += rays;
+        }
+        self.accumulated = self.session.accumulated();
+        Ok(())
+    }
+}
+
+fn tile_session(
+    ctx: GpuContext,
+    graph: &LoadedGraph,
+    settings: &RenderSettings,
+    channel: &ChannelSelection,
+    tile: Tile,
+    scene: &(Scene, SceneGpu),
+) -> Result<Session, RenderError> {
+    let plan = compile_for(graph, tile.size, Some(channel))?;
+    Session::from_plan(ctx, graph, plan, settings, tile, Some(scene.clone()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_the_image_once_with_narrower_last_ones() {
+        let tiling = Tiling::new([48, 40], [32, 24]).unwrap();
+        let tiles = tiling.tiles();
+        let sizes: Vec<_> = tiles.iter().map(|t| (t.origin, t.size)).collect();
+        assert_eq!(
+            sizes,
+            [
+                ([0, 0], [32, 24]),
+                ([32, 0], [16, 24]),
+                ([0, 24], [32, 16]),
+                ([32, 24], [16, 16])
+            ]
+        );
+        let area: u32 = tiles.iter().map(|t| t.size[0] * t.size[1]).sum();
+        assert_eq!(area, 48 * 40);
+    }
+
+    #[test]
+    fn tile_sides_are_multiples_of_8_or_the_image() {
+        assert!(Tiling::new([48, 40], [20, 16]).is_err());
+        assert_eq!(Tiling::new([50, 40], [64, 16]).unwrap().tile, [50, 16]);
+        assert!(Tiling::new([50, 44], [50, 44]).is_ok());
+    }
+
+    #[test]
+    fn the_largest_tiling_is_even_and_fits() {
+        // The limit of lavapipe's result buffer: 1,677,721 pixels.
+        let fits = |s: [u32; 2]| Ok(u64::from(s[0]) * u64::from(s[1]) <= 134_217_728 / 80);
+        let t = largest_tiling([1920, 1080], &fits).unwrap();
+        assert_eq!(t.tile, [1920, 544]);
+        let t = largest_tiling([3840, 2160], &fits).unwrap();
+        assert_eq!(t.tile, [3840, 432]);
+        assert_eq!(t.tiles().len(), 5);
+        // Wider than any strip of 8 rows: columns too.
+        let t = largest_tiling([300_000, 64], &fits).unwrap();
+        assert!(
+            t.tile[0] * 8 <= 1_677_721 && t.tile[0].is_multiple_of(8),
+            "{t:?}"
+        );
+        let untiled = largest_untiled([1920, 1080], &fits).unwrap();
+        assert_eq!(untiled, [1727, 971]);
+    }
+}
