@@ -7,6 +7,7 @@ use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::image::{RgbImage, check_output_path};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
+use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -123,6 +124,10 @@ struct RenderArgs {
     /// Image size, WxH.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     size: [u32; 2],
+    /// Render in tiles of WxH (sides multiples of 8), one after another, bit for bit the
+    /// whole image; without it, only an image over the device's limits is tiled.
+    #[arg(long, value_parser = parse_size, conflicts_with = "camera_path")]
+    tile: Option<[u32; 2]>,
     /// Random seed: the same seed gives the same image on the same adapter.
     #[arg(long, default_value_t = 0)]
     seed: u32,
@@ -447,6 +452,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     for path in &args.out {
         check_output_path(path).map_err(Failure::Usage)?;
     }
+    if let Some(tile) = args.tile {
+        passgraph::render::tiles::Tiling::new(args.size, tile).map_err(Failure::Usage)?;
+    }
     if let Some(csv) = &args.error_csv {
         passgraph::atomic_write::check_target(csv)
             .map_err(|e| Failure::Usage(format!("{}: cannot write: {e}", csv.display())))?;
@@ -485,7 +493,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         keep: Keep::Outputs,
         max_depth: args.max_depth,
     };
-    let mut session = Session::for_render(&settings, &args.channel).map_err(|e| e.to_string())?;
+    let mut render =
+        ImageRender::for_render(&settings, &args.channel, args.tile).map_err(|e| e.to_string())?;
+    let session = render.session();
     let segments = match &args.camera_path {
         Some(path) => Some(load_camera_path(path, session.scene_description().camera)?),
         None => None,
@@ -521,9 +531,13 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
     }
+    eprintln!("{}", render.memory_line());
     let start = Instant::now();
     if let Some(segments) = &segments {
-        let rows = render_camera_path(&mut session, segments, &args.channel)?;
+        let session = render.whole_mut().ok_or_else(|| {
+            "--camera-path renders whole images only: use a smaller --size".to_string()
+        })?;
+        let rows = render_camera_path(session, segments, &args.channel)?;
         if let Some(csv) = &args.error_csv {
             let mut text = String::from("frame,segment,accumulated,rmse,relmse,bias\n");
             for r in &rows {
@@ -535,22 +549,23 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
             passgraph::bench::report::write_text(csv, &text)?;
         }
     }
-    let bar = indicatif::ProgressBar::new(u64::from(args.frames));
+    // Tiles are rendered one after another: the bar counts frames of tiles.
+    let frames = if segments.is_some() { 0 } else { args.frames };
+    let bar = indicatif::ProgressBar::new(render.steps(frames));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
             .map_err(|e| e.to_string())?,
     );
     // A camera path has rendered its own frames above.
-    let frames = if segments.is_some() { 0 } else { args.frames };
-    for _ in 0..frames {
-        session.render_frame().map_err(|e| e.to_string())?;
+    for _ in 0..render.steps(frames) {
+        render.render_frame().map_err(|e| e.to_string())?;
         bar.inc(1);
     }
     // Reading the result waits for the GPU, so the time below includes every frame's work.
-    let image = session.image(&args.channel).map_err(|e| e.to_string())?;
+    let image = render.image(&args.channel).map_err(|e| e.to_string())?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    let dropped = session.dropped().map_err(|e| e.to_string())?;
+    let dropped = render.dropped().map_err(|e| e.to_string())?;
     // All outputs as a set: each is encoded and written beside its target before any replaces
     // an older file, so a failure leaves no new PNG beside an old EXR.
     let encoded = args
@@ -573,9 +588,9 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
             e.bias
         );
     }
-    let frames = session.accumulated();
+    let frames = render.accumulated();
     let fps = f64::from(frames) / seconds;
-    let rays = match session.rays_counted().map_err(|e| e.to_string())? {
+    let rays = match render.rays_counted().map_err(|e| e.to_string())? {
         Some(counted) => format!("{:.2} Mrays/s", counted as f64 / seconds / 1e6),
         None => "rays not counted (no pass binds ray_count)".to_string(),
     };
