@@ -131,6 +131,13 @@ impl ImageRender {
         channel: &ChannelSelection,
         tile: Option<[u32; 2]>,
     ) -> Result<ImageRender, RenderError> {
+        let [w, h] = settings.size;
+        if u64::from(w) * u64::from(h) > u64::from(u32::MAX) {
+            // shaders/lib/sampler.wgsl names a pixel's sequence by its u32 index in the image.
+            return Err(RenderError::Other(format!(
+                "{w}x{h} is more than 2^32 pixels, which the sampler cannot tell apart (it names each pixel by a 32-bit index); use a smaller --size"
+            )));
+        }
         let shown = Some(channel);
         let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown)?;
         let plan = compile_for(&graph, settings.size, shown)?;
@@ -354,8 +361,19 @@ impl TiledRender {
         let mut tiles = tiling.tiles();
         // Stable: row order within each size.
         tiles.sort_by_key(|t| std::cmp::Reverse(t.size));
-        let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene)?;
         let [w, h] = tiling.image;
+        // The whole image is assembled on the host: a clear error rather than an abort when it
+        // cannot be held.
+        let mut pixels = Vec::new();
+        let count = w as usize * h as usize;
+        pixels.try_reserve_exact(count).map_err(|_| {
+            RenderError::Other(format!(
+                "a {w}x{h} image does not fit in this machine's memory ({} for its pixels); use a smaller --size",
+                crate::graph::plan_text::human_bytes(count as u64 * 12)
+            ))
+        })?;
+        pixels.resize(count, [0.0; 3]);
+        let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene)?;
         Ok(TiledRender {
             graph,
             settings: settings.clone(),
@@ -368,7 +386,7 @@ impl TiledRender {
             image: RgbImage {
                 width: w,
                 height: h,
-                pixels: vec![[0.0; 3]; w as usize * h as usize],
+                pixels,
             },
             dropped: 0,
             rays: None,
