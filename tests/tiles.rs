@@ -167,3 +167,10 @@ fn footprint_pixel_is_refused_where_it_cannot_hold() {
     let (_, message) = scratch.error("graphs/counter.ron");
     assert_mentions(&message, &["counter.ron", "footprint", "Workgroups"]);
 }
+
+#[test]
+fn an_image_past_the_samplers_32_bit_pixel_index_is_an_error() {
+    let result = passgraph(&["render", "--size", "70000x70000", "--frames", "1"]);
+    assert_eq!(result.status.code(), Some(1));
+    assert_mentions(&stderr(&result), &["70000x70000", "2^32 pixels"]);
+}
