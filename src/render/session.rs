@@ -182,25 +182,21 @@ impl Session {
             plan,
             settings,
             Tile::whole(settings.size),
-            Some(scene),
+            scene,
         )
     }
 
     /// A session of a graph made by [`prepare_graph`] and compiled for `tile.size` by
-    /// [`compile_for`]; the scene is loaded from `settings.scene` unless given (a tiled render
-    /// loads it once for all its tiles).
+    /// [`compile_for`], on a scene from [`load_scene_for`] (a tiled render loads it once for all
+    /// its tiles).
     pub(crate) fn from_plan(
         ctx: GpuContext,
         graph: &LoadedGraph,
         plan: Plan,
         settings: &RenderSettings,
         tile: Tile,
-        scene: Option<(Scene, SceneGpu)>,
+        (scene, gpu_scene): (Scene, SceneGpu),
     ) -> Result<Session, RenderError> {
-        let (scene, gpu_scene) = match scene {
-            Some(loaded) => loaded,
-            None => load_scene_for(settings)?,
-        };
         let provided = provided_data(&ProvidedInputs {
             scene: &scene,
             gpu: &gpu_scene,
@@ -252,64 +248,7 @@ impl Session {
     pub fn tile(&self) -> Tile {
         self.tile
     }
-}
 
-/// Loads `settings.scene` with `settings.max_depth` applied, and its GPU form.
-pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneGpu), RenderError> {
-    let mut scene = load_scene(&settings.scene)?;
-    if let Some(depth) = settings.max_depth {
-        scene.max_depth = depth;
-    }
-    let gpu_scene = scene.to_gpu();
-    Ok((scene, gpu_scene))
-}
-
-/// The graph as a session runs it: `settings.set` applied, and the textures the session keeps
-/// (`settings.keep`, the texture channel `shown`) made outputs.
-pub(crate) fn prepare_graph(
-    mut graph: LoadedGraph,
-    settings: &RenderSettings,
-    shown: Option<&ChannelSelection>,
-) -> Result<LoadedGraph, RenderError> {
-    for s in &settings.set {
-        set_param(&mut graph, s)?;
-    }
-    let mut keep = match &settings.keep {
-        Keep::Outputs => Vec::new(),
-        Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
-    };
-    if let Some(ChannelSelection::Texture(name)) = shown {
-        keep.push(
-            texture_channel(name)
-                .map_err(RenderError::Other)?
-                .0
-                .to_string(),
-        );
-    }
-    for name in keep {
-        // A name the graph lacks stays unkept: showing it then says what the graph has.
-        if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
-            graph.decl.outputs.push(name);
-        }
-    }
-    Ok(graph)
-}
-
-/// The plan of a graph made by [`prepare_graph`] for frames of `size`, checked against what
-/// `render` reads back for `shown`.
-pub(crate) fn compile_for(
-    graph: &LoadedGraph,
-    size: [u32; 2],
-    shown: Option<&ChannelSelection>,
-) -> Result<Plan, RenderError> {
-    let plan = compile(graph, size, path_tracer())?;
-    if let Some(channel) = shown {
-        check_render_contract(&plan, channel)?;
-    }
-    Ok(plan)
-}
-
-impl Session {
     /// Every file the graph was built from: the graph, its pass files, their shaders and the
     /// shaders' includes (what a hot reload watches).
     pub fn source_files(&self) -> &[PathBuf] {
@@ -504,6 +443,61 @@ pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<
         output_texture_format(plan, name).map_err(RenderError::Other)?;
     }
     Ok(())
+}
+
+/// Loads `settings.scene` with `settings.max_depth` applied, and its GPU form.
+pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneGpu), RenderError> {
+    let mut scene = load_scene(&settings.scene)?;
+    if let Some(depth) = settings.max_depth {
+        scene.max_depth = depth;
+    }
+    let gpu_scene = scene.to_gpu();
+    Ok((scene, gpu_scene))
+}
+
+/// The graph as a session runs it: `settings.set` applied, and the textures the session keeps
+/// (`settings.keep`, the texture channel `shown`) made outputs.
+pub(crate) fn prepare_graph(
+    mut graph: LoadedGraph,
+    settings: &RenderSettings,
+    shown: Option<&ChannelSelection>,
+) -> Result<LoadedGraph, RenderError> {
+    for s in &settings.set {
+        set_param(&mut graph, s)?;
+    }
+    let mut keep = match &settings.keep {
+        Keep::Outputs => Vec::new(),
+        Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
+    };
+    if let Some(ChannelSelection::Texture(name)) = shown {
+        keep.push(
+            texture_channel(name)
+                .map_err(RenderError::Other)?
+                .0
+                .to_string(),
+        );
+    }
+    for name in keep {
+        // A name the graph lacks stays unkept: showing it then says what the graph has.
+        if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
+            graph.decl.outputs.push(name);
+        }
+    }
+    Ok(graph)
+}
+
+/// The plan of a graph made by [`prepare_graph`] for frames of `size`, checked against what
+/// `render` reads back for `shown`.
+pub(crate) fn compile_for(
+    graph: &LoadedGraph,
+    size: [u32; 2],
+    shown: Option<&ChannelSelection>,
+) -> Result<Plan, RenderError> {
+    let plan = compile(graph, size, path_tracer())?;
+    if let Some(channel) = shown {
+        check_render_contract(&plan, channel)?;
+    }
+    Ok(plan)
 }
 
 /// The graph's own colour textures that kept passes use (depth attachments are not read back).

@@ -156,7 +156,7 @@ impl ImageRender {
             (Some(tiling), _) => tiling,
             (None, Ok(())) => {
                 let whole = Tile::whole(settings.size);
-                let session = Session::from_plan(ctx, &graph, plan, settings, whole, Some(scene))?;
+                let session = Session::from_plan(ctx, &graph, plan, settings, whole, scene)?;
                 return Ok(ImageRender::Whole(Box::new(session)));
             }
             (None, Err(over)) => {
@@ -453,7 +453,7 @@ fn tile_session(
     scene: &(Scene, SceneGpu),
 ) -> Result<Session, RenderError> {
     let plan = compile_for(graph, tile.size, Some(channel))?;
-    Session::from_plan(ctx, graph, plan, settings, tile, Some(scene.clone()))
+    Session::from_plan(ctx, graph, plan, settings, tile, scene.clone())
 }
 
 #[cfg(test)]
