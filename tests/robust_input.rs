@@ -602,11 +602,20 @@ fn over_limit(p: &Project, size: &str, parts: &[&str]) {
 // 5. Device limits ended in wgpu's raw validation text.
 #[test]
 fn device_limits_are_checked_before_creating_anything_naming_resource_limit_and_fix() {
+    // Past the limits a graph whose passes all declare `footprint: Pixel` renders in tiles
+    // (tests/tiles.rs); one that cannot be tiled still stops before creating anything.
     let p = Project::new();
+    p.edit("passes/accumulate.ron", "footprint: Pixel, ", "");
     over_limit(
         &p,
         "8192x8192",
-        &["pathtracer.ron", "resource '", "max_buffer_size", "--size"],
+        &[
+            "pathtracer.ron",
+            "resource '",
+            "max_buffer_size",
+            "--size",
+            "pass 'accumulate'",
+        ],
     );
     let p = Project::new();
     p.edit(GRAPH, "layers: 3", "layers: 100000");
