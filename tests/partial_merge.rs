@@ -560,3 +560,31 @@ fn sample_range_usage_errors_exit_2_before_rendering() {
     assert_eq!(out.status.code(), Some(2));
     assert_mentions(&text(&out.stderr), &["merge writes nothing"]);
 }
+
+#[test]
+fn counts_weigh_each_range_per_pixel() {
+    // Pixel 0 has samples in both ranges, pixel 1 dropped all of 0..2, pixel 2 every sample.
+    let partial = |r: SampleRange, means: [f32; 3], counts: [u32; 3]| Partial {
+        size: [3, 1],
+        samples: r,
+        dropped: u64::from(3 * r.len() - counts.iter().sum::<u32>()),
+        fingerprint: fingerprint("size"),
+        source: String::new(),
+        planes: vec![
+            Plane {
+                mean: means.iter().map(|&m| [m; 3]).collect(),
+                compensation: vec![[0.0; 3]; 3],
+                count: counts.to_vec(),
+            };
+            5
+        ],
+    };
+    let a = partial(range(0, 2), [1.0, 0.0, 0.0], [2, 0, 0]);
+    let b = partial(range(2, 6), [4.0, 2.0, 0.0], [4, 3, 0]);
+    let merged = merge(unnamed(&[b, a])).unwrap();
+    let plane = &merged.planes[4];
+    assert_eq!(plane.count, [6, 3, 0]);
+    assert_eq!(plane.mean, [[3.0; 3], [2.0; 3], [0.0; 3]]);
+    assert_eq!(plane.compensation, [[0.0; 3]; 3]);
+    assert_eq!(merged.dropped, 4 + 5);
+}
