@@ -537,6 +537,10 @@ fn sample_range_usage_errors_exit_2_before_rendering() {
         ),
         (&["--samples", "0..4"][..], "writes nothing"),
         (
+            &["--samples", "0..4", "--partial", "p.exr", "--out", "p.exr"][..],
+            "both --partial and --out",
+        ),
+        (
             &["--samples", "0..20000000", "--partial", "p.exr"][..],
             "at most 16777216",
         ),
@@ -587,4 +591,15 @@ fn counts_weigh_each_range_per_pixel() {
     assert_eq!(plane.mean, [[3.0; 3], [2.0; 3], [0.0; 3]]);
     assert_eq!(plane.compensation, [[0.0; 3]; 3]);
     assert_eq!(merged.dropped, 4 + 5);
+}
+
+#[test]
+fn a_graph_without_compensation_cannot_write_a_partial() {
+    // What Session::for_partial checks when the graph is compiled, before any GPU work.
+    let plan = common::compile_fixture("seed.ron");
+    let e = passgraph::render::session::partial_contract()
+        .check(&plan)
+        .unwrap_err()
+        .to_string();
+    assert_mentions(&e, &["seed.ron", "'compensation'", "render --partial"]);
 }
