@@ -603,3 +603,45 @@ fn a_graph_without_compensation_cannot_write_a_partial() {
         .to_string();
     assert_mentions(&e, &["seed.ron", "'compensation'", "render --partial"]);
 }
+
+#[test]
+fn a_partial_whose_header_disagrees_with_its_data_is_refused() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.exr");
+    cpu_partial(range(0, 8), 4).write(&path).unwrap();
+    // Edit one line of the header attribute, keeping the pixels.
+    let edit = |from: &str, to: &str| {
+        let mut image = read_all_flat_layers_from_file(&path).unwrap();
+        let header = image.layer_data[0]
+            .attributes
+            .other
+            .get_mut(&Text::from("passgraph.partial"))
+            .unwrap();
+        let AttributeValue::Text(text) = header else {
+            panic!("passgraph.partial is text")
+        };
+        let edited = text.to_string().replace(from, to);
+        assert_ne!(edited, text.to_string(), "{from} is in the header");
+        *text = Text::from(edited.as_str());
+        let edited_path = dir.path().join("edited.exr");
+        image.write().to_file(&edited_path).unwrap();
+        Partial::read(&edited_path).unwrap_err()
+    };
+    assert_mentions(
+        &edit("size: 4x1", "size: 5x1"),
+        &["edited.exr", "'size' says 5x1 but the image is 4x1"],
+    );
+    assert_mentions(
+        &edit("settings: size", "settings: SIZE"),
+        &["edited.exr", "does not match its parts", "damaged"],
+    );
+    assert_mentions(
+        &edit("format: passgraph partial 1", "format: passgraph partial 2"),
+        &["edited.exr", "this passgraph reads 'passgraph partial 1'"],
+    );
+    assert_mentions(
+        &edit("samples: 0..8", "samples: 8..8"),
+        &["edited.exr", "'samples'", "empty sample range"],
+    );
+}
