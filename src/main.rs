@@ -732,12 +732,7 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
     if let Some(path) = &args.partial {
         check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
-    let inputs = args
-        .partials
-        .iter()
-        .map(|path| Ok((path.clone(), Partial::read(path)?)))
-        .collect::<Result<Vec<_>, String>>()?;
-    let merged = passgraph::render::merge::merge(inputs)?;
+    let merged = passgraph::render::merge::merge_files(&args.partials)?;
     let [w, h] = merged.size;
     let image = RgbImage::from_result(&merged.to_result(), w, h, planes);
     let mut encoded = args

@@ -171,6 +171,16 @@ fn merge_is_bitwise_identical_whatever_the_order_and_hierarchy() {
         let bytes = merge(unnamed(&shuffled)).unwrap().encode().unwrap();
         assert!(bytes == reference, "order {order:?} merges to other bytes");
     }
+    // Merging the files, one in memory at a time, gives the same bytes.
+    let dir = tempfile::tempdir().unwrap();
+    let mut paths = Vec::new();
+    for p in ranges.iter().rev() {
+        let path = dir.path().join(format!("{}.exr", p.samples));
+        p.write(&path).unwrap();
+        paths.push(path);
+    }
+    let from_files = passgraph::render::merge::merge_files(&paths).unwrap();
+    assert!(from_files.encode().unwrap() == reference);
     // A merged partial merges again: (0..16 + 16..32) + (32..48 + 48..64) has the flat
     // merge's counts and is within a rounding of it (each level rounds t to f32 + f32).
     let low = merge(unnamed(&ranges[..2])).unwrap();
