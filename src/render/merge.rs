@@ -107,13 +107,12 @@ fn order_and_check(inputs: &mut [(PathBuf, Partial)]) -> Result<(), String> {
         let differences = first.fingerprint.differences(&p.fingerprint);
         if !differences.is_empty() {
             return Err(format!(
-                "{} (samples {}) and {} (samples {}) are of different renders: {} differ{}",
+                "{} (samples {}) and {} (samples {}) are of different renders; they differ in {}",
                 show(first_path),
                 first.samples,
                 show(path),
                 p.samples,
-                differences.join(", "),
-                if differences.len() == 1 { "s" } else { "" }
+                differences.join(" and ")
             ));
         }
     }
