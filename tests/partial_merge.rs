@@ -519,6 +519,39 @@ fn render_samples_then_merge_in_any_order_on_the_command_line() {
             "0..2.exr (samples 0..2)",
         ],
     );
+    // Another seed is another render, and the error says which part differs.
+    let seeded = passgraph(
+        dir.path(),
+        &[
+            "render",
+            "--size",
+            "8x8",
+            "--samples",
+            "2..3",
+            "--seed",
+            "1",
+            "--partial",
+            &p("seed1.exr"),
+        ],
+    );
+    assert!(seeded.status.success(), "{}", text(&seeded.stderr));
+    let other = passgraph(
+        dir.path(),
+        &[
+            "merge",
+            &p("0..2.exr"),
+            &p("seed1.exr"),
+            "--out",
+            &p("s.png"),
+        ],
+    );
+    assert_eq!(other.status.code(), Some(1));
+    let stderr = text(&other.stderr);
+    assert_mentions(&stderr, &["different renders", "the settings", "seed 1"]);
+    assert!(
+        !stderr.contains("the scene") && !stderr.contains("the graph"),
+        "{stderr}"
+    );
     // A truncated partial is an error naming it, not a panic.
     let bytes = read("fp.exr");
     std::fs::write(dir.path().join("cut.exr"), &bytes[..bytes.len() / 2]).unwrap();
