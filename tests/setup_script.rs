@@ -535,3 +535,18 @@ fn with_jobs_and_everything_present_there_is_nothing_to_install() {
     assert_eq!(machine.apt_calls(), "");
 }
 
+/// CI sets up for and runs the job definitions under jobs/ after the tests.
+#[test]
+fn ci_runs_the_job_definitions_after_the_tests() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let lines: Vec<&str> = ci.lines().map(str::trim).collect();
+    let at = |line: &str| lines.iter().position(|l| *l == line);
+    let (Some(test), Some(setup), Some(jobs)) = (
+        at("scripts/setup && cargo test"),
+        at("scripts/setup --jobs"),
+        at("jobs/test"),
+    ) else {
+        panic!("{ci}");
+    };
+    assert!(test < setup && setup < jobs, "{ci}");
+}
