@@ -60,7 +60,8 @@ struct SampleSource {
 // The includer declares `frame` (Frame) and includes scene.wgsl and rng.wgsl. `samples_per_frame`
 // and `k` let one frame hold several samples (sample k of the frame).
 fn sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSource {
-    let frame_index = select(frame.index, frame.accumulated, sample_index_restarts);
+    // A render of the sample range A..B starts its accumulation at 0 and its samples at A.
+    let frame_index = select(frame.index, frame.accumulated, sample_index_restarts) + frame.first_sample;
     return SampleSource(pixel.y * frame.width + pixel.x, frame_index * samples_per_frame + k, frame.seed);
 }
 

@@ -148,7 +148,9 @@ struct Frame {
     seed: u32,
     // How image passes order their rows of tiles: lib/tile_order.wgsl.
     tile_row_stride: u32,
-    pad1: u32,
+    // The sample index of the accumulation's first frame (a sample range A..B starts at A):
+    // lib/sampler.wgsl adds it to the frame's index.
+    first_sample: u32,
     pad2: u32,
 }
 

@@ -203,7 +203,12 @@ pub fn provided_data(inputs: &ProvidedInputs) -> ProvidedData {
 
 /// The `frame` uniform's bytes.
 pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
-    let frame = Frame {
+    bytemuck::bytes_of(&frame(size, seed, index, accumulated)).to_vec()
+}
+
+/// The `frame` uniform (`first_sample` 0: a session starting at another sample sets it).
+pub fn frame(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Frame {
+    Frame {
         index,
         accumulated,
         width: size[0],
@@ -211,8 +216,7 @@ pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> V
         seed,
         tile_row_stride: tile_row_stride(size[1]),
         ..Default::default()
-    };
-    bytemuck::bytes_of(&frame).to_vec()
+    }
 }
 
 #[cfg(test)]

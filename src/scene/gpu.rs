@@ -162,7 +162,9 @@ pub struct Frame {
     pub seed: u32,
     /// How image passes order their rows of tiles: `render::tile_order`.
     pub tile_row_stride: u32,
-    pub pad1: u32,
+    /// The sample index of the accumulation's first frame: a render of samples A..B
+    /// (`--samples`) starts at A, so its frames draw what frames A.. of a whole render draw.
+    pub first_sample: u32,
     pub pad2: u32,
 }
 
