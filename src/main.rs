@@ -500,7 +500,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         check_output_path(path).map_err(Failure::Usage)?;
     }
     if let Some(path) = &args.partial {
-        check_partial_path(path).map_err(Failure::Usage)?;
+        check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
     if let Some(csv) = &args.error_csv {
         passgraph::atomic_write::check_target(csv)
@@ -689,8 +689,15 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A partial file's path: an `.exr` that can be written.
-fn check_partial_path(path: &std::path::Path) -> Result<(), String> {
+/// A partial file's path: an `.exr` that can be written, and not also an image output (one
+/// would silently replace the other).
+fn check_partial_path(path: &std::path::Path, images: &[PathBuf]) -> Result<(), String> {
+    if images.iter().any(|image| image == path) {
+        return Err(format!(
+            "{}: given as both --partial and --out; a partial file is not an image",
+            path.display()
+        ));
+    }
     let is_exr = path
         .extension()
         .and_then(|e| e.to_str())
@@ -723,14 +730,9 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
         check_output_path(path).map_err(Failure::Usage)?;
     }
     if let Some(path) = &args.partial {
-        check_partial_path(path).map_err(Failure::Usage)?;
+        check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
-    let inputs = args
-        .partials
-        .iter()
-        .map(|path| Ok((path.clone(), Partial::read(path)?)))
-        .collect::<Result<Vec<_>, String>>()?;
-    let merged = passgraph::render::merge::merge(inputs)?;
+    let merged = passgraph::render::merge::merge_files(&args.partials)?;
     let [w, h] = merged.size;
     let image = RgbImage::from_result(&merged.to_result(), w, h, planes);
     let mut encoded = args

@@ -171,6 +171,16 @@ fn merge_is_bitwise_identical_whatever_the_order_and_hierarchy() {
         let bytes = merge(unnamed(&shuffled)).unwrap().encode().unwrap();
         assert!(bytes == reference, "order {order:?} merges to other bytes");
     }
+    // Merging the files, one in memory at a time, gives the same bytes.
+    let dir = tempfile::tempdir().unwrap();
+    let mut paths = Vec::new();
+    for p in ranges.iter().rev() {
+        let path = dir.path().join(format!("{}.exr", p.samples));
+        p.write(&path).unwrap();
+        paths.push(path);
+    }
+    let from_files = passgraph::render::merge::merge_files(&paths).unwrap();
+    assert!(from_files.encode().unwrap() == reference);
     // A merged partial merges again: (0..16 + 16..32) + (32..48 + 48..64) has the flat
     // merge's counts and is within a rounding of it (each level rounds t to f32 + f32).
     let low = merge(unnamed(&ranges[..2])).unwrap();
@@ -509,6 +519,39 @@ fn render_samples_then_merge_in_any_order_on_the_command_line() {
             "0..2.exr (samples 0..2)",
         ],
     );
+    // Another seed is another render, and the error says which part differs.
+    let seeded = passgraph(
+        dir.path(),
+        &[
+            "render",
+            "--size",
+            "8x8",
+            "--samples",
+            "2..3",
+            "--seed",
+            "1",
+            "--partial",
+            &p("seed1.exr"),
+        ],
+    );
+    assert!(seeded.status.success(), "{}", text(&seeded.stderr));
+    let other = passgraph(
+        dir.path(),
+        &[
+            "merge",
+            &p("0..2.exr"),
+            &p("seed1.exr"),
+            "--out",
+            &p("s.png"),
+        ],
+    );
+    assert_eq!(other.status.code(), Some(1));
+    let stderr = text(&other.stderr);
+    assert_mentions(&stderr, &["different renders", "the settings", "seed 1"]);
+    assert!(
+        !stderr.contains("the scene") && !stderr.contains("the graph"),
+        "{stderr}"
+    );
     // A truncated partial is an error naming it, not a panic.
     let bytes = read("fp.exr");
     std::fs::write(dir.path().join("cut.exr"), &bytes[..bytes.len() / 2]).unwrap();
@@ -537,6 +580,10 @@ fn sample_range_usage_errors_exit_2_before_rendering() {
         ),
         (&["--samples", "0..4"][..], "writes nothing"),
         (
+            &["--samples", "0..4", "--partial", "p.exr", "--out", "p.exr"][..],
+            "both --partial and --out",
+        ),
+        (
             &["--samples", "0..20000000", "--partial", "p.exr"][..],
             "at most 16777216",
         ),
@@ -559,4 +606,85 @@ fn sample_range_usage_errors_exit_2_before_rendering() {
     let out = passgraph(dir, &["merge", "a.exr"]);
     assert_eq!(out.status.code(), Some(2));
     assert_mentions(&text(&out.stderr), &["merge writes nothing"]);
+}
+
+#[test]
+fn counts_weigh_each_range_per_pixel() {
+    // Pixel 0 has samples in both ranges, pixel 1 dropped all of 0..2, pixel 2 every sample.
+    let partial = |r: SampleRange, means: [f32; 3], counts: [u32; 3]| Partial {
+        size: [3, 1],
+        samples: r,
+        dropped: u64::from(3 * r.len() - counts.iter().sum::<u32>()),
+        fingerprint: fingerprint("size"),
+        source: String::new(),
+        planes: vec![
+            Plane {
+                mean: means.iter().map(|&m| [m; 3]).collect(),
+                compensation: vec![[0.0; 3]; 3],
+                count: counts.to_vec(),
+            };
+            5
+        ],
+    };
+    let a = partial(range(0, 2), [1.0, 0.0, 0.0], [2, 0, 0]);
+    let b = partial(range(2, 6), [4.0, 2.0, 0.0], [4, 3, 0]);
+    let merged = merge(unnamed(&[b, a])).unwrap();
+    let plane = &merged.planes[4];
+    assert_eq!(plane.count, [6, 3, 0]);
+    assert_eq!(plane.mean, [[3.0; 3], [2.0; 3], [0.0; 3]]);
+    assert_eq!(plane.compensation, [[0.0; 3]; 3]);
+    assert_eq!(merged.dropped, 4 + 5);
+}
+
+#[test]
+fn a_graph_without_compensation_cannot_write_a_partial() {
+    // What Session::for_partial checks when the graph is compiled, before any GPU work.
+    let plan = common::compile_fixture("seed.ron");
+    let e = passgraph::render::session::partial_contract()
+        .check(&plan)
+        .unwrap_err()
+        .to_string();
+    assert_mentions(&e, &["seed.ron", "'compensation'", "render --partial"]);
+}
+
+#[test]
+fn a_partial_whose_header_disagrees_with_its_data_is_refused() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.exr");
+    cpu_partial(range(0, 8), 4).write(&path).unwrap();
+    // Edit one line of the header attribute, keeping the pixels.
+    let edit = |from: &str, to: &str| {
+        let mut image = read_all_flat_layers_from_file(&path).unwrap();
+        let header = image.layer_data[0]
+            .attributes
+            .other
+            .get_mut(&Text::from("passgraph.partial"))
+            .unwrap();
+        let AttributeValue::Text(text) = header else {
+            panic!("passgraph.partial is text")
+        };
+        let edited = text.to_string().replace(from, to);
+        assert_ne!(edited, text.to_string(), "{from} is in the header");
+        *text = Text::from(edited.as_str());
+        let edited_path = dir.path().join("edited.exr");
+        image.write().to_file(&edited_path).unwrap();
+        Partial::read(&edited_path).unwrap_err()
+    };
+    assert_mentions(
+        &edit("size: 4x1", "size: 5x1"),
+        &["edited.exr", "'size' says 5x1 but the image is 4x1"],
+    );
+    assert_mentions(
+        &edit("settings: size", "settings: SIZE"),
+        &["edited.exr", "does not match its parts", "damaged"],
+    );
+    assert_mentions(
+        &edit("format: passgraph partial 1", "format: passgraph partial 2"),
+        &["edited.exr", "this passgraph reads 'passgraph partial 1'"],
+    );
+    assert_mentions(
+        &edit("samples: 0..8", "samples: 8..8"),
+        &["edited.exr", "'samples'", "empty sample range"],
+    );
 }

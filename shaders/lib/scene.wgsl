@@ -34,7 +34,8 @@ struct Triangle {
     p1: vec3<f32>,
     light: u32,
     p2: vec3<f32>,
-    // The fraction of rays the triangle stops (MTL d); bvh.wgsl lets the rest pass.
+    // The fraction of rays the triangle stops (MTL d); bvh.wgsl lets the rest pass. Negative:
+    // that of texture -1 - opacity (map_d) at the hit.
     opacity: f32,
 }
 

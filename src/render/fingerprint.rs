@@ -7,7 +7,8 @@
 //!   params after `--set` (so `--set intersect.sampler_kind=0` changes it);
 //! - **scene**: the contents of the scene file and its mesh, then everything the session
 //!   uploads from them (triangles, materials and their tables, textures, lights, BVH, camera)
-//!   and the scene constants (light count, `max_depth` after `--max-depth`, ...);
+//!   and the scene constants (light count, `max_depth` after `--max-depth`, ...), not the
+//!   frame uniform (size and seed are settings);
 //! - **settings**: size, seed and `max_depth`, as text.
 //!
 //! File paths are not hashed, only contents: a farm's workers may check the project out in
@@ -15,7 +16,7 @@
 //! machines (std's hasher is not), and ample against accidents (it is no defence against a
 //! forged file, which no merge needs).
 
-use super::provided::{ProvidedInputs, provided_data};
+use super::provided::{CAMERA_PREVIOUS, FRAME, ProvidedInputs, provided_data};
 use super::session::{RenderSettings, Session};
 use crate::graph::load::load_graph;
 use crate::graph::set_param::set_param;
@@ -112,6 +113,11 @@ fn scene_hash(session: &Session) -> Result<u128, String> {
         seed: session.seed(),
     });
     for (name, bytes) in &data.buffers {
+        // The frame uniform holds size and seed, which `settings` has: hashed here, a seed
+        // change would also be reported as a different scene.
+        if [FRAME, CAMERA_PREVIOUS].contains(&name.as_str()) {
+            continue;
+        }
         h.write_str(name);
         h.write(bytes);
     }

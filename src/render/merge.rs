@@ -1,6 +1,10 @@
 //! Merging partial files of consecutive sample ranges into the partial of their union
 //! (`passgraph merge`; docs/distributed.md, "Merge").
 //!
+//! [`merge_files`] holds one partial in memory at a time (it reads each file twice: once to
+//! check and order them all, once to add it), so many ranges of a large image merge in the
+//! memory of one partial (140 bytes a pixel) and the sums (128 bytes a pixel).
+//!
 //! The inputs are put in a canonical order, by sample range, before anything is added, so
 //! the result is the same bit for bit whatever order they are given in. They must be of one
 //! render (same fingerprint and size) and tile their union exactly: an overlap would count
@@ -41,6 +45,46 @@ use std::path::{Path, PathBuf};
 /// Merges partials given with the files they came from (for messages).
 pub fn merge(inputs: Vec<(PathBuf, Partial)>) -> Result<Partial, String> {
     let mut inputs = inputs;
+    order_and_check(&mut inputs)?;
+    let mut sums = Sums::new(inputs[0].1.size);
+    for (_, p) in &inputs {
+        sums.add(p);
+    }
+    Ok(sums.finish(&inputs))
+}
+
+/// Merges partial files, reading them one at a time (see the module documentation).
+pub fn merge_files(paths: &[PathBuf]) -> Result<Partial, String> {
+    // The checks need only the headers: each file's pixels are dropped once it is read.
+    let mut headers = paths
+        .iter()
+        .map(|path| {
+            let p = Partial::read(path)?;
+            Ok((
+                path.clone(),
+                Partial {
+                    planes: Vec::new(),
+                    ..p
+                },
+            ))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    order_and_check(&mut headers)?;
+    let mut sums = Sums::new(headers[0].1.size);
+    for (path, header) in &headers {
+        let p = Partial::read(path)?;
+        if (p.samples, p.size, &p.fingerprint) != (header.samples, header.size, &header.fingerprint)
+        {
+            return Err(format!("{}: changed while it was being merged", show(path)));
+        }
+        sums.add(&p);
+    }
+    Ok(sums.finish(&headers))
+}
+
+/// Puts the inputs in the canonical order and checks that they are of one render and join
+/// without gaps or overlaps (only their headers are read).
+fn order_and_check(inputs: &mut [(PathBuf, Partial)]) -> Result<(), String> {
     if inputs.is_empty() {
         return Err("merge needs at least one partial file".to_string());
     }
@@ -60,19 +104,15 @@ pub fn merge(inputs: Vec<(PathBuf, Partial)>) -> Result<Partial, String> {
                 p.size[1]
             ));
         }
-        if p.fingerprint != first.fingerprint {
+        let differences = first.fingerprint.differences(&p.fingerprint);
+        if !differences.is_empty() {
             return Err(format!(
-                "{} (samples {}) and {} (samples {}) are of different renders: {} differ{}",
+                "{} (samples {}) and {} (samples {}) are of different renders; they differ in {}",
                 show(first_path),
                 first.samples,
                 show(path),
                 p.samples,
-                first.fingerprint.differences(&p.fingerprint).join(", "),
-                if first.fingerprint.differences(&p.fingerprint).len() == 1 {
-                    "s"
-                } else {
-                    ""
-                }
+                differences.join(" and ")
             ));
         }
     }
@@ -105,67 +145,93 @@ pub fn merge(inputs: Vec<(PathBuf, Partial)>) -> Result<Partial, String> {
             ));
         }
     }
-    let partials: Vec<&Partial> = inputs.iter().map(|(_, p)| p).collect();
-    let last = partials[partials.len() - 1];
-    let pixels = first.size[0] as usize * first.size[1] as usize;
-    let planes = (0..first.planes.len())
-        .map(|c| merge_plane(&partials, c, pixels))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(Partial {
-        size: first.size,
-        samples: SampleRange {
-            start: first.samples.start,
-            end: last.samples.end,
-        },
-        dropped: partials.iter().map(|p| p.dropped).sum(),
-        fingerprint: first.fingerprint.clone(),
-        source: format!(
-            "merged from {} partials ({}); {}",
-            partials.len(),
-            partials
-                .iter()
-                .map(|p| p.samples.to_string())
-                .collect::<Vec<_>>()
-                .join(", "),
-            first.source
-        ),
-        planes,
-    })
+    Ok(())
 }
 
-fn merge_plane(partials: &[&Partial], c: usize, pixels: usize) -> Result<Plane, String> {
-    let mut plane = Plane {
-        mean: vec![[0.0; 3]; pixels],
-        compensation: vec![[0.0; 3]; pixels],
-        count: vec![0; pixels],
-    };
-    for i in 0..pixels {
-        let total: u64 = partials
-            .iter()
-            .map(|p| u64::from(p.planes[c].count[i]))
-            .sum();
-        // Ranges are u32 frame indices and counts at most their lengths: the sum fits.
-        plane.count[i] = u32::try_from(total)
-            .map_err(|_| format!("pixel {i} would count {total} samples, more than a u32"))?;
-        if total == 0 {
-            continue;
-        }
-        for k in 0..3 {
-            let sum: f64 = partials
-                .iter()
-                .map(|p| {
-                    let q = &p.planes[c];
-                    f64::from(q.count[i])
-                        * (f64::from(q.mean[i][k]) + f64::from(q.compensation[i][k]))
-                })
-                .sum();
-            let t = sum / total as f64;
-            let mean = t as f32;
-            plane.mean[i][k] = mean;
-            plane.compensation[i][k] = (t - f64::from(mean)) as f32;
+/// Per plane, pixel and component, `Σ n_i (m_i + c_i)` in f64, and per plane and pixel
+/// `Σ n_i`, added in the canonical order.
+struct Sums {
+    pixels: usize,
+    sums: Vec<Vec<[f64; 3]>>,
+    counts: Vec<Vec<u64>>,
+}
+
+impl Sums {
+    fn new(size: [u32; 2]) -> Sums {
+        let pixels = size[0] as usize * size[1] as usize;
+        let planes = super::channels::Channel::ALL.len();
+        Sums {
+            pixels,
+            sums: vec![vec![[0.0; 3]; pixels]; planes],
+            counts: vec![vec![0; pixels]; planes],
         }
     }
-    Ok(plane)
+
+    /// Adds a partial of the size [`Sums::new`] was given (reading checked its planes).
+    fn add(&mut self, p: &Partial) {
+        for ((sums, counts), plane) in self.sums.iter_mut().zip(&mut self.counts).zip(&p.planes) {
+            let pixels = sums.iter_mut().zip(counts.iter_mut());
+            for (i, (sum, count)) in pixels.enumerate() {
+                let n = plane.count[i];
+                *count += u64::from(n);
+                let (mean, compensation) = (plane.mean[i], plane.compensation[i]);
+                for (k, s) in sum.iter_mut().enumerate() {
+                    *s += f64::from(n) * (f64::from(mean[k]) + f64::from(compensation[k]));
+                }
+            }
+        }
+    }
+
+    /// The merged partial; `inputs` in the canonical order, checked.
+    fn finish(self, inputs: &[(PathBuf, Partial)]) -> Partial {
+        let (first, last) = (&inputs[0].1, &inputs[inputs.len() - 1].1);
+        let planes = self
+            .sums
+            .iter()
+            .zip(&self.counts)
+            .map(|(sums, counts)| {
+                let mut plane = Plane {
+                    mean: vec![[0.0; 3]; self.pixels],
+                    compensation: vec![[0.0; 3]; self.pixels],
+                    // Counts are at most the ranges' lengths, and the union is a u32 range.
+                    count: counts.iter().map(|&n| n as u32).collect(),
+                };
+                for (i, (sum, &n)) in sums.iter().zip(counts).enumerate() {
+                    // A pixel with no samples anywhere stays 0, as the accumulate pass leaves it.
+                    if n == 0 {
+                        continue;
+                    }
+                    for (k, &s) in sum.iter().enumerate() {
+                        let t = s / n as f64;
+                        let mean = t as f32;
+                        plane.mean[i][k] = mean;
+                        plane.compensation[i][k] = (t - f64::from(mean)) as f32;
+                    }
+                }
+                plane
+            })
+            .collect();
+        Partial {
+            size: first.size,
+            samples: SampleRange {
+                start: first.samples.start,
+                end: last.samples.end,
+            },
+            dropped: inputs.iter().map(|(_, p)| p.dropped).sum(),
+            fingerprint: first.fingerprint.clone(),
+            source: format!(
+                "merged from {} partials ({}); {}",
+                inputs.len(),
+                inputs
+                    .iter()
+                    .map(|(_, p)| p.samples.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                first.source
+            ),
+            planes,
+        }
+    }
 }
 
 fn show(path: &Path) -> String {

@@ -27,7 +27,8 @@ pub struct Triangle {
     pub light: u32,
     pub p2: [f32; 3],
     /// The fraction of rays the triangle stops: its material's `opacity` (MTL `d`); below 1 a
-    /// ray passes through with probability 1 - opacity (shaders/lib/bvh.wgsl).
+    /// ray passes through with probability 1 - opacity (shaders/lib/bvh.wgsl). Negative: the
+    /// opacity is texture `-1 - opacity`'s (`map_d`) at the hit ([`Triangle::opacity_of`]).
     pub opacity: f32,
 }
 
@@ -186,6 +187,17 @@ impl Triangle {
             light: NO_LIGHT,
             p2: vertices[2].into(),
             opacity: 1.0,
+        }
+    }
+
+    /// The `opacity` of a triangle of material `m`: `m.opacity`, or the encoded `map_d`, which
+    /// replaces it (as `material_at` does), so that the traversal needs no material lookup.
+    pub fn opacity_of(m: &Material) -> f32 {
+        if m.map_d == NO_TEXTURE {
+            m.opacity
+        } else {
+            // Exact below 2^24 textures, far more than a texel view holds.
+            -1.0 - m.map_d as f32
         }
     }
 
@@ -360,7 +372,7 @@ impl SceneGpu {
         for t in &mut triangles {
             t.opacity = materials
                 .get(t.material as usize)
-                .map_or(1.0, |m| m.opacity);
+                .map_or(1.0, Triangle::opacity_of);
         }
         for (index, light) in lights.iter().enumerate() {
             for t in light.triangles() {
