@@ -5,6 +5,7 @@
 #include "lib/sampler.wgsl"
 #include "lib/sampling.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/cutout_map.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/ray_texture.wgsl"
@@ -24,6 +25,9 @@ struct Params {
 @group(0) @binding(5) var<uniform> frame: Frame;
 @group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(7) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
+@group(0) @binding(8) var shading: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(9) var textures: texture_storage_2d<rgba32uint, read>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

@@ -5,6 +5,7 @@
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/cutout_map.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/ray_texture_store.wgsl"
 
@@ -18,6 +19,9 @@ override pixel_jitter: bool = true;
 @group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(5) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
+@group(0) @binding(6) var shading: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(7) var textures: texture_storage_2d<rgba32uint, read>;
 
 fn shade(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {

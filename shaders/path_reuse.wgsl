@@ -41,6 +41,7 @@
 #include "lib/bsdf.wgsl"
 #include "lib/mis.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/cutout_map.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/tile_order.wgsl"
 #include "lib/primary.wgsl"

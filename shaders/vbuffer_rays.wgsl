@@ -3,14 +3,15 @@
 // the frame's jittered camera ray (lib/frame_jitter.wgsl); t, u, v come from the same watertight
 // test intersect's traversal applies (bvh_intersect_triangle) against the drawn triangle alone,
 // so they are intersect's wherever both see that triangle. Where the test disagrees with the
-// rasteriser (a pixel whose ray grazes the drawn triangle's edge) or nothing was drawn, the ray
-// is traced through the BVH as intersect traces it.
+// rasteriser (a pixel whose ray grazes the drawn triangle's edge), the ray passes a cut-out
+// drawn there, or nothing was drawn, the ray is traced through the BVH as intersect traces it.
 #include "lib/scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
 #include "lib/frame_jitter.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/cutout_map.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/ray_texture_store.wgsl"
 
@@ -21,6 +22,9 @@
 @group(0) @binding(4) var vbuffer: texture_2d<u32>;
 @group(0) @binding(5) var rays: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(6) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
+// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
+@group(0) @binding(7) var shading: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(8) var textures: texture_storage_2d<rgba32uint, read>;
 
 fn convert(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
@@ -34,8 +38,11 @@ fn convert(id: vec3<u32>) {
     if drawn != 0u && drawn <= scene_triangle_count {
         let k = drawn - 1u;
         let p = scene_triangle_vertices(triangles, k);
-        let h = bvh_intersect_triangle(bvh_prepare_ray(camera.eye, dir), p[0], p[1], p[2], 0.0, 3.0e38);
-        if h.hit {
+        let ray = bvh_prepare_ray(camera.eye, dir);
+        let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], 0.0, 3.0e38);
+        // A cut-out the ray passes (bvh_stops decides as the traversal would) was drawn but
+        // is not what the ray sees: trace past it.
+        if h.hit && bvh_stops(ray, k, h.u, h.v) {
             hit = Hit(h.t, h.u, h.v, k);
             found = true;
             bvh_rays_traced += 1u;

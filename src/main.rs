@@ -5,7 +5,9 @@ use passgraph::bench::metrics::image_error;
 use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::{Channel, ChannelSelection};
+use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::image::{RgbImage, check_output_path};
+use passgraph::render::partial::{MAX_RANGE, Partial, SampleRange};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
@@ -55,6 +57,9 @@ enum Command {
     },
     /// Render a scene progressively with a graph and write images.
     Render(RenderArgs),
+    /// Combine partial files of consecutive sample ranges of one render (written by `render
+    /// --samples A..B --partial`) into its image and, optionally, one partial of the union.
+    Merge(MergeArgs),
     /// Speed against error: render graph variants, measure the error against a reference at
     /// log-spaced checkpoints, write CSVs, a log-log chart and a markdown report.
     Bench(BenchArgs),
@@ -121,12 +126,22 @@ struct RenderArgs {
     /// Frames to accumulate (one sample per pixel each).
     #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES, value_parser = parse_frames)]
     frames: u32,
+    /// Render only the samples (frame indices) A to B-1 of the accumulation `--frames B` would
+    /// render, e.g. 64..128: same seeds and sampler dimensions, so partials of ranges merge
+    /// into the whole render (`passgraph merge`).
+    #[arg(long, value_name = "A..B", conflicts_with_all = ["frames", "camera_path"])]
+    samples: Option<SampleRange>,
+    /// Write the accumulation as a partial file (EXR: per channel mean, compensation and
+    /// sample count; the range and a fingerprint of graph, scene and settings) for `passgraph
+    /// merge`: of --samples A..B, or of 0..N with --frames N. No image unless --out is given.
+    #[arg(long, value_name = "PART.exr", conflicts_with = "camera_path")]
+    partial: Option<PathBuf>,
     /// Image size, WxH.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     size: [u32; 2],
     /// Render in tiles of WxH (sides multiples of 8), one after another, bit for bit the
     /// whole image; without it, only an image over the device's limits is tiled.
-    #[arg(long, value_parser = parse_size, conflicts_with = "camera_path")]
+    #[arg(long, value_parser = parse_size, conflicts_with_all = ["camera_path", "partial"])]
     tile: Option<[u32; 2]>,
     /// Random seed: the same seed gives the same image on the same adapter.
     #[arg(long, default_value_t = 0)]
@@ -137,8 +152,9 @@ struct RenderArgs {
     /// Override a graph param: INSTANCE.PARAM=VALUE (repeatable).
     #[arg(long = "set")]
     set: Vec<String>,
-    /// Output image: .png (sRGB, clamped) or .exr (linear float32). Repeatable.
-    #[arg(long = "out", default_value = "render.png")]
+    /// Output image: .png (sRGB, clamped) or .exr (linear float32). Repeatable. Default
+    /// render.png, or none with --partial.
+    #[arg(long = "out")]
     out: Vec<PathBuf>,
     /// Use the first adapter whose printed line (name, backend, driver, e.g. "llvmpipe",
     /// "vulkan", "mesa 25") contains this, ignoring case (also env PASSGRAPH_ADAPTER).
@@ -154,6 +170,23 @@ struct RenderArgs {
     /// With --camera-path: write the per-frame errors as CSV.
     #[arg(long, requires = "camera_path")]
     error_csv: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// Partial files of one render whose sample ranges join without gaps or overlaps, in any
+    /// order.
+    #[arg(required = true, value_name = "PART.exr")]
+    partials: Vec<PathBuf>,
+    /// Output image: .png (sRGB, clamped) or .exr (linear float32). Repeatable.
+    #[arg(long = "out")]
+    out: Vec<PathBuf>,
+    /// Also write the merged partial (of the union of the ranges), itself mergeable.
+    #[arg(long, value_name = "OUT.exr")]
+    partial: Option<PathBuf>,
+    /// Channel(s) to write: sum, l0, direct, indirect, ambient, or a '+'-joined list.
+    #[arg(long, default_value = "sum")]
+    channel: ChannelSelection,
 }
 
 #[derive(clap::Args)]
@@ -442,18 +475,40 @@ fn render_camera_path(
     Ok(rows)
 }
 
-fn render(args: RenderArgs) -> Result<(), Failure> {
+fn render(mut args: RenderArgs) -> Result<(), Failure> {
     // Everything that can be checked before rendering is: a mistake should not cost the frames.
     if args.error_csv.is_some() && args.camera_path.is_none() {
         return Err(Failure::Usage(
             "--error-csv needs --camera-path (the errors it writes are a camera path's)".into(),
         ));
     }
+    // The frames to render: a range of samples, or 0..--frames.
+    let range = args.samples.unwrap_or(SampleRange {
+        start: 0,
+        end: args.frames,
+    });
+    if range.len() > MAX_RANGE {
+        return Err(Failure::Usage(format!(
+            "--samples {range} is {} samples long; one render holds at most {MAX_RANGE} (the GPU counts samples in f32): split it into shorter ranges and merge them",
+            range.len()
+        )));
+    }
+    if args.samples.is_some() && args.partial.is_none() && args.out.is_empty() {
+        return Err(Failure::Usage(format!(
+            "--samples {range} writes nothing: add --partial PART.exr (for `passgraph merge`) or --out IMAGE"
+        )));
+    }
+    if args.out.is_empty() && args.partial.is_none() {
+        args.out.push(PathBuf::from("render.png"));
+    }
     for path in &args.out {
         check_output_path(path).map_err(Failure::Usage)?;
     }
     if let Some(tile) = args.tile {
         passgraph::render::tiles::Tiling::new(args.size, tile).map_err(Failure::Usage)?;
+    }
+    if let Some(path) = &args.partial {
+        check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
     if let Some(csv) = &args.error_csv {
         passgraph::atomic_write::check_target(csv)
@@ -484,17 +539,34 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         seed: args.seed,
         set: args.set,
         adapter: args.adapter.clone(),
-        // A camera path restarts the accumulation at each move: no cap.
+        // A camera path restarts the accumulation at each move: no cap. A range of samples
+        // counts its own frames (past the default 1000 too).
         max_frames: if args.camera_path.is_some() {
             u32::MAX
         } else {
-            args.frames
+            range.len()
         },
         keep: Keep::Outputs,
         max_depth: args.max_depth,
     };
-    let mut render =
-        ImageRender::for_render(&settings, &args.channel, args.tile).map_err(|e| e.to_string())?;
+    // A partial file reads the whole accumulation back: only an untiled session has one.
+    let mut render = match &args.partial {
+        Some(_) => {
+            Session::for_partial(&settings, &args.channel).map(|s| ImageRender::Whole(Box::new(s)))
+        }
+        None => ImageRender::for_render(&settings, &args.channel, args.tile),
+    }
+    .map_err(|e| e.to_string())?;
+    let fingerprint = match &args.partial {
+        Some(_) => Some(Fingerprint::of(&settings, render.session())?),
+        None => None,
+    };
+    render.start_at_sample(range.start);
+    if range.start > 0 && !range.is_power_of_two_aligned() {
+        eprintln!(
+            "note: samples {range} are not a power-of-two block aligned to its length (e.g. 64..128); with the Sobol sampler this range alone is less evenly stratified than such a block, though a merge of ranges is the same as the whole render"
+        );
+    }
     let session = render.session();
     let segments = match &args.camera_path {
         Some(path) => Some(load_camera_path(path, session.scene_description().camera)?),
@@ -550,7 +622,7 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
         }
     }
     // Tiles are rendered one after another: the bar counts frames of tiles.
-    let frames = if segments.is_some() { 0 } else { args.frames };
+    let frames = if segments.is_some() { 0 } else { range.len() };
     let bar = indicatif::ProgressBar::new(render.steps(frames));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
@@ -568,11 +640,35 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     let dropped = render.dropped().map_err(|e| e.to_string())?;
     // All outputs as a set: each is encoded and written beside its target before any replaces
     // an older file, so a failure leaves no new PNG beside an old EXR.
-    let encoded = args
+    let mut encoded = args
         .out
         .iter()
         .map(|path| Ok((path.as_path(), image.encode_for(path)?)))
         .collect::<Result<Vec<_>, String>>()?;
+    if let (Some(path), Some(fingerprint)) = (&args.partial, fingerprint) {
+        let source = format!(
+            "graph {}, scene {}, adapter {}",
+            settings.graph.display(),
+            settings.scene.display(),
+            passgraph::gpu::context::describe(render.session().context().adapter_info())
+        );
+        let partial = Partial::from_buffers(
+            settings.size,
+            range,
+            u64::from(dropped),
+            fingerprint,
+            source,
+            &render.session().result().map_err(|e| e.to_string())?,
+            &render.session().compensation().map_err(|e| e.to_string())?,
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+        encoded.push((
+            path.as_path(),
+            partial
+                .encode()
+                .map_err(|e| format!("{}: {e}", path.display()))?,
+        ));
+    }
     let files: Vec<(&std::path::Path, &[u8])> =
         encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
     passgraph::atomic_write::write_atomic_set(&files)
@@ -590,15 +686,97 @@ fn render(args: RenderArgs) -> Result<(), Failure> {
     }
     let frames = render.accumulated();
     let fps = f64::from(frames) / seconds;
+    let samples = match args.samples {
+        Some(range) => format!(" (samples {range})"),
+        None => String::new(),
+    };
     let rays = match render.rays_counted().map_err(|e| e.to_string())? {
         Some(counted) => format!("{:.2} Mrays/s", counted as f64 / seconds / 1e6),
         None => "rays not counted (no pass binds ray_count)".to_string(),
     };
     println!(
-        "{frames} frames in {seconds:.2} s: {fps:.1} frames/s, {rays}, {dropped} dropped samples; wrote {}",
+        "{frames} frames{samples} in {seconds:.2} s: {fps:.1} frames/s, {rays}, {dropped} dropped samples; wrote {}",
         args.out
             .iter()
+            .chain(&args.partial)
             .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
+
+/// A partial file's path: an `.exr` that can be written, and not also an image output (one
+/// would silently replace the other).
+fn check_partial_path(path: &std::path::Path, images: &[PathBuf]) -> Result<(), String> {
+    if images.iter().any(|image| image == path) {
+        return Err(format!(
+            "{}: given as both --partial and --out; a partial file is not an image",
+            path.display()
+        ));
+    }
+    let is_exr = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr {
+        return Err(format!(
+            "{}: a partial file is an OpenEXR file: name it .exr",
+            path.display()
+        ));
+    }
+    passgraph::atomic_write::check_target(path)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+/// `passgraph merge`: reads every partial (each checked, errors naming the file), merges them
+/// in range order and writes the image(s) and the merged partial as one set.
+fn merge(args: MergeArgs) -> Result<(), Failure> {
+    if args.out.is_empty() && args.partial.is_none() {
+        return Err(Failure::Usage(
+            "merge writes nothing: give --out IMAGE (.png or .exr) and/or --partial OUT.exr".into(),
+        ));
+    }
+    let ChannelSelection::Planes(planes) = &args.channel else {
+        return Err(Failure::Usage(format!(
+            "--channel {}: a partial holds the accumulation's channels only (sum, l0, direct, indirect, ambient)",
+            args.channel
+        )));
+    };
+    for path in &args.out {
+        check_output_path(path).map_err(Failure::Usage)?;
+    }
+    if let Some(path) = &args.partial {
+        check_partial_path(path, &args.out).map_err(Failure::Usage)?;
+    }
+    let merged = passgraph::render::merge::merge_files(&args.partials)?;
+    let [w, h] = merged.size;
+    let image = RgbImage::from_result(&merged.to_result(), w, h, planes);
+    let mut encoded = args
+        .out
+        .iter()
+        .map(|path| Ok((path.as_path(), image.encode_for(path)?)))
+        .collect::<Result<Vec<_>, String>>()?;
+    if let Some(path) = &args.partial {
+        encoded.push((
+            path.as_path(),
+            merged
+                .encode()
+                .map_err(|e| format!("{}: {e}", path.display()))?,
+        ));
+    }
+    let files: Vec<(&std::path::Path, &[u8])> =
+        encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    passgraph::atomic_write::write_atomic_set(&files)
+        .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))?;
+    println!(
+        "merged {} partials: samples {}, {w}x{h}, {} dropped samples; wrote {}",
+        args.partials.len(),
+        merged.samples,
+        merged.dropped,
+        files
+            .iter()
+            .map(|(p, _)| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
     );
@@ -659,6 +837,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         |g: &GraphArgs| compile_file(&g.graph, g.size).map_err(|e: GraphError| e.to_string());
     match cli.command.unwrap_or(Command::Render(cli.render)) {
         Command::Render(args) => render(args)?,
+        Command::Merge(args) => merge(args)?,
         Command::Bench(args) => bench(args)?,
         Command::View(a) => passgraph::view::run(passgraph::view::ViewOptions {
             settings: RenderSettings {

@@ -114,7 +114,7 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 height,
                 seed,
                 tile_row_stride,
-                pad1,
+                first_sample,
                 pad2,
                 image_origin,
                 image_size

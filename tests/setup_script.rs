@@ -318,6 +318,20 @@ impl Machine {
         std::fs::read_to_string(self.dir.path().join("apt-get.log")).unwrap_or_default()
     }
 
+    /// A stand-in `cargo` whose `cargo install --list` prints `listing`.
+    fn with_cargo_installed(self, listing: &str) -> Machine {
+        let path = self.dir.path().join("bin/cargo");
+        std::fs::write(
+            &path,
+            format!("#!/bin/sh\n[ \"$1 $2\" = \"install --list\" ] || exit 1\ncat <<'END'\n{listing}END\n"),
+        )
+        .unwrap();
+        let mut permissions = std::fs::metadata(&path).unwrap().permissions();
+        std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
+        std::fs::set_permissions(&path, permissions).unwrap();
+        self
+    }
+
     fn added_entry(&self) -> Option<String> {
         let path = self
             .dir
@@ -460,4 +474,79 @@ fn it_installs_what_is_missing_through_apt_get() {
         "update -qq\ninstall -y -qq --no-install-recommends libxkbcommon-x11-0\n"
     );
     assert_eq!(machine.added_entry(), None, "Mesa 25 is there");
+}
+
+/// What `--jobs` adds: Slurm, munge and Python's yaml (apt), openjd-cli 0.1.18 (cargo).
+const JOBS_PACKAGES: [(&str, &str); 5] = [
+    ("slurmctld", "22.05.8-4+deb12u3"),
+    ("slurmd", "22.05.8-4+deb12u3"),
+    ("slurm-client", "22.05.8-4+deb12u3"),
+    ("munge", "0.5.15-2+deb12u1"),
+    ("python3-yaml", "6.0-3+b2"),
+];
+const OPENJD_LISTED: &str = "openjd-cli v0.1.18:\n    openjd\n";
+const OPENJD_INSTALL: &str = "would run: cargo install --locked openjd-cli --version 0.1.18\n";
+
+#[test]
+fn with_jobs_it_adds_slurm_munge_yaml_and_the_pinned_openjd() {
+    let sources = [("sources.list.d/debian.sources", DEBIAN_SOURCES)];
+    // An older openjd-cli does not count.
+    let machine = Machine::new("bookworm", &ALL_PRESENT, &sources, 0)
+        .with_cargo_installed("openjd-cli v0.1.20:\n    openjd\n");
+    let (ok, out) = machine.setup(&["--dry-run", "--jobs"]);
+    assert!(ok, "{out}");
+    assert!(
+        out.contains(
+            "install -y -qq --no-install-recommends slurmctld slurmd slurm-client munge python3-yaml\n"
+        ) && out.ends_with(OPENJD_INSTALL),
+        "{out}"
+    );
+    // Without --jobs none of it.
+    let (ok, out) = machine.setup(&["--dry-run"]);
+    assert!(ok, "{out}");
+    assert_eq!(
+        out,
+        "setup: nothing to install (mesa-vulkan-drivers 25.0.7-2~bpo12+1)\n"
+    );
+}
+
+#[test]
+fn with_jobs_and_only_openjd_missing_it_runs_no_apt() {
+    let installed: Vec<_> = ALL_PRESENT.iter().chain(&JOBS_PACKAGES).copied().collect();
+    let sources = [("sources.list.d/debian.sources", DEBIAN_SOURCES)];
+    let machine = Machine::new("bookworm", &installed, &sources, 0).with_cargo_installed("");
+    let (ok, out) = machine.setup(&["--jobs", "--dry-run"]);
+    assert!(ok, "{out}");
+    assert_eq!(out, OPENJD_INSTALL);
+}
+
+#[test]
+fn with_jobs_and_everything_present_there_is_nothing_to_install() {
+    let installed: Vec<_> = ALL_PRESENT.iter().chain(&JOBS_PACKAGES).copied().collect();
+    let sources = [("sources.list.d/debian.sources", DEBIAN_SOURCES)];
+    let machine =
+        Machine::new("bookworm", &installed, &sources, 0).with_cargo_installed(OPENJD_LISTED);
+    let (ok, out) = machine.setup(&["--jobs"]);
+    assert!(ok, "{out}");
+    assert_eq!(
+        out,
+        "setup: nothing to install (mesa-vulkan-drivers 25.0.7-2~bpo12+1, openjd-cli 0.1.18)\n"
+    );
+    assert_eq!(machine.apt_calls(), "");
+}
+
+/// CI sets up for and runs the job definitions under jobs/ after the tests.
+#[test]
+fn ci_runs_the_job_definitions_after_the_tests() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let lines: Vec<&str> = ci.lines().map(str::trim).collect();
+    let at = |line: &str| lines.iter().position(|l| *l == line);
+    let (Some(test), Some(setup), Some(jobs)) = (
+        at("scripts/setup && cargo test"),
+        at("scripts/setup --jobs"),
+        at("jobs/test"),
+    ) else {
+        panic!("{ci}");
+    };
+    assert!(test < setup && setup < jobs, "{ci}");
 }

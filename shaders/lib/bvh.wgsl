@@ -12,6 +12,8 @@
 //   #include "lib/bvh.wgsl"       // the overrides scene_triangle_count and scene_node_count
 //   @group(G) @binding(B) var triangles: texture_storage_2d<rgba32uint, read>;   // scene.triangles (texel view)
 //   @group(G) @binding(C) var bvh: texture_storage_2d<rgba32uint, read>;         // scene.bvh (texel view)
+//   #include "lib/cutout_map.wgsl"   // cut-outs from `map_d` textures (binds scene.shading and
+//                                    // scene.textures), or "lib/cutout_map_none.wgsl" (none)
 // `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax)
 // and beyond the bound on t's own rounding error (see bvh_intersect_triangle). Names other
 // than Hit, closest_hit, any_hit and shadow_hit start with `bvh_`.
@@ -347,18 +349,22 @@ fn bvh_step(ray: BvhRay, walk: BvhWalk, tmin: f32, tmax: f32, flat: bool) -> Bvh
     return BvhWalk(i + 1u, walk.next, walk.end);
 }
 
-// Whether triangle k stops the ray. Cut-out surfaces (MTL d < 1: opacity, scene_has_cutouts)
-// let it pass with probability 1 - opacity, decided by a hash of the triangle and the ray
-// (as pbrt-v4's stochastic alpha test): the same ray always decides the same way, so a
-// shadow ray and the closest-hit ray agree, and over a pixel's jittered rays and light samples
-// the surface stops the fraction `opacity` of the light.
-fn bvh_stops(ray: BvhRay, k: u32) -> bool {
+// Whether triangle k, hit at barycentrics (u, v), stops the ray. Cut-out surfaces (MTL d < 1
+// or map_d: scene_has_cutouts) let it pass with probability 1 - opacity, decided by a hash of
+// the triangle and the ray (as pbrt-v4's stochastic alpha test): the same ray always decides
+// the same way, so a shadow ray and the closest-hit ray agree, and over a pixel's jittered rays
+// and light samples the surface stops the fraction `opacity` of the light. A negative
+// Triangle.opacity names a map_d texture, looked up at the hit (cutout_map_opacity).
+fn bvh_stops(ray: BvhRay, k: u32, u: f32, v: f32) -> bool {
     if (!scene_has_cutouts) {
         return true;
     }
-    let opacity = bitcast<f32>(scene_texel(triangles, 3u * k + 2u).w);
+    var opacity = bitcast<f32>(scene_texel(triangles, 3u * k + 2u).w);
     if (opacity >= 1.0) {
         return true;
+    }
+    if (opacity < 0.0) {
+        opacity = cutout_map_opacity(u32(-1.0 - opacity), k, u, v);
     }
     let o = bitcast<vec3<u32>>(ray.origin);
     let d = bitcast<vec3<u32>>(ray.inv_dir);
@@ -404,7 +410,7 @@ fn bvh_closest_hit(ray: BvhRay, tmin: f32, tmax: f32, flat: bool) -> Hit {
             let k = walk.next;
             let p = scene_triangle_vertices(triangles, k);
             let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
-            if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle)) && bvh_stops(ray, k)) {
+            if (h.hit && (h.t < best.t || (h.t == best.t && k < best.triangle)) && bvh_stops(ray, k, h.u, h.v)) {
                 best = Hit(h.t, h.u, h.v, k);
             }
             walk.next = k + 1u;
@@ -442,7 +448,8 @@ fn bvh_any_hit(ray: BvhRay, root: u32, tmin: f32, tmax: f32, flat: bool) -> bool
     while (walk.node < scene_node_count || walk.next < walk.end) {
         if (walk.next < walk.end) {
             let p = scene_triangle_vertices(triangles, walk.next);
-            if (bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax).hit && bvh_stops(ray, walk.next)) {
+            let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], tmin, tmax);
+            if (h.hit && bvh_stops(ray, walk.next, h.u, h.v)) {
                 return true;
             }
             walk.next = walk.next + 1u;

@@ -66,7 +66,8 @@ fn sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSour
 
 // As sample_source, for a pixel of the whole image.
 fn image_sample_source(pixel: vec2<u32>, samples_per_frame: u32, k: u32) -> SampleSource {
-    let frame_index = select(frame.index, frame.accumulated, sample_index_restarts);
+    // A render of the sample range A..B starts its accumulation at 0 and its samples at A.
+    let frame_index = select(frame.index, frame.accumulated, sample_index_restarts) + frame.first_sample;
     return SampleSource(image_pixel_index(pixel), frame_index * samples_per_frame + k, frame.seed);
 }
 

@@ -34,7 +34,8 @@ struct Triangle {
     p1: vec3<f32>,
     light: u32,
     p2: vec3<f32>,
-    // The fraction of rays the triangle stops (MTL d); bvh.wgsl lets the rest pass.
+    // The fraction of rays the triangle stops (MTL d); bvh.wgsl lets the rest pass. Negative:
+    // that of texture -1 - opacity (map_d) at the hit.
     opacity: f32,
 }
 
@@ -148,7 +149,9 @@ struct Frame {
     seed: u32,
     // How image passes order their rows of tiles: lib/tile_order.wgsl.
     tile_row_stride: u32,
-    pad1: u32,
+    // The sample index of the accumulation's first frame (a sample range A..B starts at A):
+    // lib/sampler.wgsl adds it to the frame's index.
+    first_sample: u32,
     pad2: u32,
     // Where this frame's pixel (0, 0) lies in the whole image, and the whole image's size:
     // (0, 0) and (width, height) unless the image is rendered in tiles (src/render/tiles.rs).

@@ -4,8 +4,11 @@
 pub mod accumulate;
 pub mod camera_path;
 pub mod channels;
+pub mod fingerprint;
 pub mod image;
+pub mod merge;
 pub mod output_texture;
+pub mod partial;
 pub mod provided;
 pub mod session;
 pub mod tile_order;

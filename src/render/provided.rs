@@ -106,7 +106,7 @@ const RESOURCES: &[Resource] = &[
         name: FRAME,
         kind: ProvidedKind::Uniform,
         what: "frame index, accumulated frame count, output size, user seed, the tile's place in the image",
-        bytes: |i| tile_frame_bytes(i.tile, i.seed, 0, 0),
+        bytes: |i| bytemuck::bytes_of(&tile_frame(i.tile, i.seed, 0, 0)).to_vec(),
     },
 ];
 
@@ -207,13 +207,19 @@ pub fn provided_data(inputs: &ProvidedInputs) -> ProvidedData {
 
 /// The `frame` uniform's bytes for a whole image of `size`.
 pub fn frame_bytes(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
-    tile_frame_bytes(Tile::whole(size), seed, index, accumulated)
+    bytemuck::bytes_of(&frame(size, seed, index, accumulated)).to_vec()
 }
 
-/// The `frame` uniform's bytes for one tile of an image (or all of it).
-pub fn tile_frame_bytes(tile: Tile, seed: u32, index: u32, accumulated: u32) -> Vec<u8> {
+/// The `frame` uniform of a whole image (`first_sample` 0: a session starting at another
+/// sample sets it).
+pub fn frame(size: [u32; 2], seed: u32, index: u32, accumulated: u32) -> Frame {
+    tile_frame(Tile::whole(size), seed, index, accumulated)
+}
+
+/// The `frame` uniform of one tile of an image (or all of it).
+pub fn tile_frame(tile: Tile, seed: u32, index: u32, accumulated: u32) -> Frame {
     let size = tile.size;
-    let frame = Frame {
+    Frame {
         index,
         accumulated,
         width: size[0],
@@ -223,8 +229,7 @@ pub fn tile_frame_bytes(tile: Tile, seed: u32, index: u32, accumulated: u32) -> 
         image_origin: tile.origin,
         image_size: tile.image,
         ..Default::default()
-    };
-    bytemuck::bytes_of(&frame).to_vec()
+    }
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@ use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_channel, texture_image};
 use super::provided::{
-    CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame_bytes,
+    CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
 use super::tiles::Tile;
 use crate::gpu::{Executor, GpuContext, GpuError};
@@ -15,7 +15,7 @@ use crate::graph::format::TextureFormat;
 use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::{Plan, ResourceKind};
 use crate::graph::set_param::set_param;
-use crate::scene::gpu::GpuCamera;
+use crate::scene::gpu::{Frame, GpuCamera};
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
 use bytemuck::Zeroable;
 use std::path::PathBuf;
@@ -92,6 +92,8 @@ impl RenderSettings {
 /// declares them.
 pub const RESULT: &str = "result";
 pub const DROPPED: &str = "dropped";
+/// The rounding errors of `result`'s means (the accumulate pass's `compensation` binding).
+pub const COMPENSATION: &str = "compensation";
 /// The shader binding through which a pass counts its rays.
 pub const RAY_COUNT: &str = "ray_count";
 /// Five planes of vec4<f32>.
@@ -112,6 +114,8 @@ pub struct Session {
     index: u32,
     /// Frames in the current accumulation (0 after a reset).
     accumulated: u32,
+    /// The sample index of the accumulation's first frame (see [`Session::start_at_sample`]).
+    first_sample: u32,
     max_frames: u32,
     source_files: Vec<PathBuf>,
     /// The camera the last frame was rendered with; `None` before the first frame and after a
@@ -123,7 +127,7 @@ impl Session {
     /// A session of any graph that compiles; reading the image, the dropped samples or the
     /// rays needs what [`render_contract`] lists (see [`Session::for_render`]).
     pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
-        Session::build(settings, None, || {
+        Session::build(settings, None, false, || {
             GpuContext::new(settings.adapter.as_deref())
         })
     }
@@ -135,7 +139,19 @@ impl Session {
         settings: &RenderSettings,
         channel: &ChannelSelection,
     ) -> Result<Session, RenderError> {
-        Session::build(settings, Some(channel), || {
+        Session::build(settings, Some(channel), false, || {
+            GpuContext::new(settings.adapter.as_deref())
+        })
+    }
+
+    /// A session for `render --partial`: as [`Session::for_render`], and the graph must also
+    /// have what [`partial_contract`] lists, which the session keeps (made outputs, so they
+    /// can be read back after the frames).
+    pub fn for_partial(
+        settings: &RenderSettings,
+        channel: &ChannelSelection,
+    ) -> Result<Session, RenderError> {
+        Session::build(settings, Some(channel), true, || {
             GpuContext::new(settings.adapter.as_deref())
         })
     }
@@ -146,7 +162,7 @@ impl Session {
         ctx: GpuContext,
         settings: &RenderSettings,
     ) -> Result<Session, RenderError> {
-        Session::build(settings, None, || Ok(ctx))
+        Session::build(settings, None, false, || Ok(ctx))
     }
 
     /// A session of a graph already loaded (e.g. flattened from changes written inline in a
@@ -156,25 +172,33 @@ impl Session {
         graph: LoadedGraph,
         settings: &RenderSettings,
     ) -> Result<Session, RenderError> {
-        Session::build_loaded(graph, settings, None, || Ok(ctx))
+        Session::build_loaded(graph, settings, None, false, || Ok(ctx))
     }
 
     fn build(
         settings: &RenderSettings,
         shown: Option<&ChannelSelection>,
+        partial: bool,
         context: impl FnOnce() -> Result<GpuContext, GpuError>,
     ) -> Result<Session, RenderError> {
-        Session::build_loaded(load_graph(&settings.graph)?, settings, shown, context)
+        Session::build_loaded(
+            load_graph(&settings.graph)?,
+            settings,
+            shown,
+            partial,
+            context,
+        )
     }
 
     fn build_loaded(
         graph: LoadedGraph,
         settings: &RenderSettings,
         shown: Option<&ChannelSelection>,
+        partial: bool,
         context: impl FnOnce() -> Result<GpuContext, GpuError>,
     ) -> Result<Session, RenderError> {
-        let graph = prepare_graph(graph, settings, shown)?;
-        let plan = compile_for(&graph, settings.size, shown)?;
+        let graph = prepare_graph(graph, settings, shown, partial)?;
+        let plan = compile_for(&graph, settings.size, shown, partial)?;
         let scene = load_scene_for(settings)?;
         Session::from_plan(
             context()?,
@@ -215,6 +239,7 @@ impl Session {
             seed: settings.seed,
             index: 0,
             accumulated: 0,
+            first_sample: 0,
             max_frames: settings.max_frames,
             source_files: graph_files(graph),
             previous_camera: None,
@@ -271,14 +296,37 @@ impl Session {
         self.accumulated
     }
 
+    pub fn seed(&self) -> u32 {
+        self.seed
+    }
+
+    /// Restarts the accumulation at sample index `first`: its k-th frame then draws the
+    /// samples frame `first + k` of an accumulation from 0 draws (same seeds, same sampler
+    /// dimensions), so a render of samples A..B holds exactly those of a whole render's frames
+    /// A..B (`--samples`). `max_frames` still counts the frames of this accumulation.
+    pub fn start_at_sample(&mut self, first: u32) {
+        self.reset();
+        self.first_sample = first;
+    }
+
+    /// The sample index of the accumulation's first frame (0 unless
+    /// [`Session::start_at_sample`] moved it).
+    pub fn first_sample(&self) -> u32 {
+        self.first_sample
+    }
+
     /// Renders one frame and adds it to the accumulation; once `max_frames` are accumulated
     /// it does nothing and returns false.
     pub fn render_frame(&mut self) -> Result<bool, RenderError> {
         if self.accumulated >= self.max_frames {
             return Ok(false);
         }
-        let frame = tile_frame_bytes(self.tile, self.seed, self.index, self.accumulated);
-        self.executor.update_uniform(FRAME, &frame)?;
+        let frame = Frame {
+            first_sample: self.first_sample,
+            ..tile_frame(self.tile, self.seed, self.index, self.accumulated)
+        };
+        self.executor
+            .update_uniform(FRAME, bytemuck::bytes_of(&frame))?;
         let previous = self.previous_camera.unwrap_or_else(GpuCamera::zeroed);
         self.executor
             .update_uniform(CAMERA_PREVIOUS, bytemuck::bytes_of(&previous))?;
@@ -328,6 +376,13 @@ impl Session {
     /// The accumulation buffer: planes of width*height [mean r, g, b, sample count].
     pub fn result(&self) -> Result<Vec<[f32; 4]>, RenderError> {
         let bytes = self.executor.read_resource(RESULT)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// The rounding error each mean of [`Session::result`] carries, in the same layout
+    /// (xyz; w unused): what a partial file keeps beside the means.
+    pub fn compensation(&self) -> Result<Vec<[f32; 4]>, RenderError> {
+        let bytes = self.executor.read_resource(COMPENSATION)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
@@ -435,6 +490,30 @@ pub fn render_contract(channel: &ChannelSelection) -> Contract {
     }
 }
 
+/// What a partial file (`render --partial`) reads back besides [`render_contract`]'s: the
+/// accumulation and the rounding errors its means carry.
+pub fn partial_contract() -> Contract {
+    let per_pixel = |name: &str, why: &str| RequiredBuffer {
+        name: name.to_string(),
+        by_binding: false,
+        min: MinSize::PerPixel(RESULT_BYTES_PER_PIXEL),
+        why: why.to_string(),
+    };
+    Contract {
+        user: "render --partial".to_string(),
+        buffers: vec![
+            per_pixel(
+                RESULT,
+                "the means and counts: 5 planes (l0, direct, indirect, ambient, sum) of vec4<f32> per pixel",
+            ),
+            per_pixel(
+                COMPENSATION,
+                "the rounding error of each mean, the accumulate pass's compensation (same layout)",
+            ),
+        ],
+    }
+}
+
 /// Checks a compiled plan against [`render_contract`], and that a texture channel names an
 /// output texture that can be shown.
 pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<(), RenderError> {
@@ -456,11 +535,12 @@ pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneG
 }
 
 /// The graph as a session runs it: `settings.set` applied, and the textures the session keeps
-/// (`settings.keep`, the texture channel `shown`) made outputs.
+/// (`settings.keep`, the texture channel `shown`, what a `partial` file reads) made outputs.
 pub(crate) fn prepare_graph(
     mut graph: LoadedGraph,
     settings: &RenderSettings,
     shown: Option<&ChannelSelection>,
+    partial: bool,
 ) -> Result<LoadedGraph, RenderError> {
     for s in &settings.set {
         set_param(&mut graph, s)?;
@@ -477,6 +557,9 @@ pub(crate) fn prepare_graph(
                 .to_string(),
         );
     }
+    if partial {
+        keep.extend([RESULT.to_string(), COMPENSATION.to_string()]);
+    }
     for name in keep {
         // A name the graph lacks stays unkept: showing it then says what the graph has.
         if graph.decl.resources.contains_key(&name) && !graph.decl.outputs.contains(&name) {
@@ -487,15 +570,19 @@ pub(crate) fn prepare_graph(
 }
 
 /// The plan of a graph made by [`prepare_graph`] for frames of `size`, checked against what
-/// `render` reads back for `shown`.
+/// `render` reads back for `shown` (and a `partial` file).
 pub(crate) fn compile_for(
     graph: &LoadedGraph,
     size: [u32; 2],
     shown: Option<&ChannelSelection>,
+    partial: bool,
 ) -> Result<Plan, RenderError> {
     let plan = compile(graph, size, path_tracer())?;
     if let Some(channel) = shown {
         check_render_contract(&plan, channel)?;
+    }
+    if partial {
+        partial_contract().check(&plan)?;
     }
     Ok(plan)
 }
@@ -512,7 +599,8 @@ fn used_textures(plan: &Plan) -> Vec<String> {
         .collect()
 }
 
-fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
+/// Every file `graph` was built from, sorted: graph files, pass files, shaders and includes.
+pub fn graph_files(graph: &LoadedGraph) -> Vec<PathBuf> {
     let mut files = graph.graph_files.clone();
     for pass in graph.passes.values() {
         files.push(pass.file.clone());

@@ -139,8 +139,8 @@ impl ImageRender {
             )));
         }
         let shown = Some(channel);
-        let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown)?;
-        let plan = compile_for(&graph, settings.size, shown)?;
+        let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown, false)?;
+        let plan = compile_for(&graph, settings.size, shown, false)?;
         let requested = tile
             .map(|t| Tiling::new(settings.size, t))
             .transpose()
@@ -149,7 +149,7 @@ impl ImageRender {
         let ctx = GpuContext::new(settings.adapter.as_deref())?;
         let (limits, features) = (ctx.device().limits(), ctx.device().features());
         let fits = |size: [u32; 2]| -> Result<bool, RenderError> {
-            let plan = compile_for(&graph, size, shown)?;
+            let plan = compile_for(&graph, size, shown, false)?;
             Ok(check_limits(&plan, &limits, features).is_ok())
         };
         let tiling = match (requested, check_limits(&plan, &limits, features)) {
@@ -197,6 +197,18 @@ impl ImageRender {
         match self {
             ImageRender::Whole(s) => s,
             ImageRender::Tiled(t) => &t.session,
+        }
+    }
+
+    /// Renders samples from `first` on (`--samples`; see [`Session::start_at_sample`]), in
+    /// every tile; before the first frame.
+    pub fn start_at_sample(&mut self, first: u32) {
+        match self {
+            ImageRender::Whole(s) => s.start_at_sample(first),
+            ImageRender::Tiled(t) => {
+                t.first_sample = first;
+                t.session.start_at_sample(first);
+            }
         }
     }
 
@@ -347,6 +359,8 @@ pub struct TiledRender {
     rays: Option<u64>,
     /// Frames per pixel of the tiles done.
     accumulated: u32,
+    /// The sample index every tile starts at.
+    first_sample: u32,
 }
 
 impl TiledRender {
@@ -391,6 +405,7 @@ impl TiledRender {
             dropped: 0,
             rays: None,
             accumulated: 0,
+            first_sample: 0,
         })
     }
 
@@ -422,6 +437,7 @@ impl TiledRender {
                 next,
                 &self.scene,
             )?;
+            self.session.start_at_sample(self.first_sample);
             Ok(())
         }
     }
@@ -452,7 +468,7 @@ fn tile_session(
     tile: Tile,
     scene: &(Scene, SceneGpu),
 ) -> Result<Session, RenderError> {
-    let plan = compile_for(graph, tile.size, Some(channel))?;
+    let plan = compile_for(graph, tile.size, Some(channel), false)?;
     Session::from_plan(ctx, graph, plan, settings, tile, scene.clone())
 }
 

@@ -27,7 +27,8 @@ pub struct Triangle {
     pub light: u32,
     pub p2: [f32; 3],
     /// The fraction of rays the triangle stops: its material's `opacity` (MTL `d`); below 1 a
-    /// ray passes through with probability 1 - opacity (shaders/lib/bvh.wgsl).
+    /// ray passes through with probability 1 - opacity (shaders/lib/bvh.wgsl). Negative: the
+    /// opacity is texture `-1 - opacity`'s (`map_d`) at the hit ([`Triangle::opacity_of`]).
     pub opacity: f32,
 }
 
@@ -162,7 +163,9 @@ pub struct Frame {
     pub seed: u32,
     /// How image passes order their rows of tiles: `render::tile_order`.
     pub tile_row_stride: u32,
-    pub pad1: u32,
+    /// The sample index of the accumulation's first frame: a render of samples A..B
+    /// (`--samples`) starts at A, so its frames draw what frames A.. of a whole render draw.
+    pub first_sample: u32,
     pub pad2: u32,
     /// Where this frame's pixel (0, 0) lies in the whole image, and the whole image's size:
     /// (0, 0) and (width, height) unless the image is rendered in tiles (`render::tiles`), so
@@ -189,6 +192,17 @@ impl Triangle {
             light: NO_LIGHT,
             p2: vertices[2].into(),
             opacity: 1.0,
+        }
+    }
+
+    /// The `opacity` of a triangle of material `m`: `m.opacity`, or the encoded `map_d`, which
+    /// replaces it (as `material_at` does), so that the traversal needs no material lookup.
+    pub fn opacity_of(m: &Material) -> f32 {
+        if m.map_d == NO_TEXTURE {
+            m.opacity
+        } else {
+            // Exact below 2^24 textures, far more than a texel view holds.
+            -1.0 - m.map_d as f32
         }
     }
 
@@ -363,7 +377,7 @@ impl SceneGpu {
         for t in &mut triangles {
             t.opacity = materials
                 .get(t.material as usize)
-                .map_or(1.0, |m| m.opacity);
+                .map_or(1.0, Triangle::opacity_of);
         }
         for (index, light) in lights.iter().enumerate() {
             for t in light.triangles() {

@@ -2,6 +2,7 @@
 // and writes the three queries' answers, so it also serves GPU-against-CPU checks.
 #include "lib/scene.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/cutout_map_none.wgsl"
 
 struct Query {
     origin: vec3<f32>,

@@ -1,0 +1,473 @@
+//! Partial files: the accumulation of one sample range (`passgraph render --samples A..B
+//! --partial PART.exr`), kept exactly so that `passgraph merge` can combine ranges into the
+//! render of their union (docs/distributed.md, "Partial files").
+//!
+//! # Format (version 1)
+//!
+//! A single-part, scan-line OpenEXR file (ZIP, lossless) of the image's size. For each channel
+//! `C` of the accumulation, in the result buffer's plane order `l0`, `direct`, `indirect`,
+//! `ambient`, `sum`, seven channels:
+//!
+//! | EXR channel | type | holds |
+//! | --- | --- | --- |
+//! | `C.R`, `C.G`, `C.B` | f32 | the running mean as the accumulate pass left it (`result`) |
+//! | `C.compensation.R`, `.G`, `.B` | f32 | the rounding error it carries (`compensation`) |
+//! | `C.count` | u32 | the pixel's sample count: the range's length less the samples it dropped |
+//!
+//! so an EXR viewer shows each channel as a layer. Pixel (x, y) is at row y from the top, as
+//! in the `result` buffer. The exact mean of a pixel's samples is `mean + compensation` to
+//! within a few ulps of `compensation` (src/render/accumulate.rs). The GPU counts in f32,
+//! exact below 2^24, so a range is at most 2^24 samples long; merged counts are u32 sums.
+//!
+//! The header's text attribute `passgraph.partial` holds the fields, one `key: value` line
+//! each, in this order (one attribute, not nine: the `exr` crate writes custom attributes in a
+//! random order, and `merge` must write the same bytes every time):
+//!
+//! | key | value |
+//! | --- | --- |
+//! | `format` | `passgraph partial 1` |
+//! | `samples` | the sample range `A..B` (frame indices A to B-1) |
+//! | `size` | `WxH`, which must equal the data window's size |
+//! | `dropped` | samples dropped (non-finite) in the range, over all pixels |
+//! | `fingerprint` | 32 hex digits: graph, scene and settings in one hash |
+//! | `fingerprint.graph`, `fingerprint.scene` | 32 hex digits each |
+//! | `settings` | `size WxH, seed K, max_depth D` |
+//! | `source` | informative: graph and scene as given, the adapter; never compared |
+//!
+//! (see [`super::fingerprint`] for what the hashes cover). Reading checks all of it and names
+//! the file in every error: unreadable or truncated EXR, not a partial, an unknown version, a
+//! missing or mistyped channel, a size that disagrees, a fingerprint that does not add up,
+//! counts above the range's length, non-finite values.
+
+use super::channels::Channel;
+use super::fingerprint::{Fingerprint, hash_text, parse_hash};
+use crate::atomic_write::write_atomic;
+use exr::prelude::{
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
+    ReadChannels, ReadLayers, SmallVec, Text, WritableImage,
+};
+use std::fmt;
+use std::path::Path;
+
+/// The value of `passgraph.format`.
+pub const FORMAT: &str = "passgraph partial 1";
+/// The longest range one render may have: the GPU's f32 sample count is exact below this.
+pub const MAX_RANGE: u32 = 1 << 24;
+
+/// The one header attribute holding the partial's fields, a line `key: value` each. One
+/// attribute, because the `exr` crate writes custom attributes in its HashMap's (random) order,
+/// and a merge must write the same bytes every time.
+pub const HEADER: &str = "passgraph.partial";
+const ATTR_FORMAT: &str = "format";
+const ATTR_SAMPLES: &str = "samples";
+const ATTR_SIZE: &str = "size";
+const ATTR_DROPPED: &str = "dropped";
+const ATTR_FINGERPRINT: &str = "fingerprint";
+const ATTR_GRAPH: &str = "fingerprint.graph";
+const ATTR_SCENE: &str = "fingerprint.scene";
+const ATTR_SETTINGS: &str = "settings";
+const ATTR_SOURCE: &str = "source";
+
+/// Frame indices `start..end` of an accumulation (`end` excluded; never empty).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct SampleRange {
+    pub start: u32,
+    pub end: u32,
+}
+
+impl SampleRange {
+    pub fn len(self) -> u32 {
+        self.end - self.start
+    }
+
+    pub fn is_empty(self) -> bool {
+        self.end <= self.start
+    }
+
+    /// Whether the range is an aligned block of a power-of-two length (A a multiple of B - A):
+    /// with the Sobol sampler such a range's samples are a stratified net on their own.
+    pub fn is_power_of_two_aligned(self) -> bool {
+        let len = self.len();
+        len.is_power_of_two() && self.start.is_multiple_of(len)
+    }
+}
+
+impl fmt::Display for SampleRange {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}..{}", self.start, self.end)
+    }
+}
+
+impl std::str::FromStr for SampleRange {
+    type Err = String;
+
+    /// `A..B` with A < B (the command line's `--samples`).
+    fn from_str(s: &str) -> Result<SampleRange, String> {
+        let bad = || format!("'{s}' is not a sample range A..B (whole numbers, A < B), e.g. 0..64");
+        let (a, b) = s.trim().split_once("..").ok_or_else(bad)?;
+        let a: u32 = a.trim().parse().map_err(|_| bad())?;
+        let b: u32 = b.trim().parse().map_err(|_| bad())?;
+        if a >= b {
+            return Err(format!("'{s}' is an empty sample range: A..B needs A < B"));
+        }
+        Ok(SampleRange { start: a, end: b })
+    }
+}
+
+/// One channel's running means over a range: `width * height` pixels each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plane {
+    pub mean: Vec<[f32; 3]>,
+    pub compensation: Vec<[f32; 3]>,
+    pub count: Vec<u32>,
+}
+
+/// A partial file in memory (see the module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Partial {
+    pub size: [u32; 2],
+    pub samples: SampleRange,
+    pub dropped: u64,
+    pub fingerprint: Fingerprint,
+    /// Informative only (graph, scene, adapter): never compared.
+    pub source: String,
+    /// In [`Channel::ALL`] order.
+    pub planes: Vec<Plane>,
+}
+
+impl Partial {
+    /// A partial from the session's `result` and `compensation` buffers (planes of
+    /// `width * height` vec4: xyz, then the count in `result`'s w).
+    pub fn from_buffers(
+        size: [u32; 2],
+        samples: SampleRange,
+        dropped: u64,
+        fingerprint: Fingerprint,
+        source: String,
+        result: &[[f32; 4]],
+        compensation: &[[f32; 4]],
+    ) -> Result<Partial, String> {
+        let pixels = size[0] as usize * size[1] as usize;
+        let needed = Channel::ALL.len() * pixels;
+        if result.len() < needed || compensation.len() < needed {
+            return Err(format!(
+                "the result and compensation buffers hold {} and {} pixels of planes; a partial of {}x{} needs {needed}",
+                result.len(),
+                compensation.len(),
+                size[0],
+                size[1]
+            ));
+        }
+        let planes = Channel::ALL
+            .iter()
+            .map(|c| {
+                let r = &result[c.layer() * pixels..][..pixels];
+                let e = &compensation[c.layer() * pixels..][..pixels];
+                Plane {
+                    mean: r.iter().map(|v| [v[0], v[1], v[2]]).collect(),
+                    compensation: e.iter().map(|v| [v[0], v[1], v[2]]).collect(),
+                    // The shader adds 1.0 per sample: a whole number, exact below 2^24.
+                    count: r.iter().map(|v| v[3] as u32).collect(),
+                }
+            })
+            .collect();
+        let partial = Partial {
+            size,
+            samples,
+            dropped,
+            fingerprint,
+            source,
+            planes,
+        };
+        partial.check().map_err(|e| format!("the render's {e}"))?;
+        Ok(partial)
+    }
+
+    /// The planes as the `result` buffer holds them (mean, count as f32), for
+    /// [`super::image::RgbImage::from_result`].
+    pub fn to_result(&self) -> Vec<[f32; 4]> {
+        self.planes
+            .iter()
+            .flat_map(|p| {
+                p.mean
+                    .iter()
+                    .zip(&p.count)
+                    .map(|(m, &n)| [m[0], m[1], m[2], n as f32])
+            })
+            .collect()
+    }
+
+    /// The file's bytes.
+    pub fn encode(&self) -> Result<Vec<u8>, String> {
+        let [w, h] = self.size;
+        let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+        for (c, plane) in Channel::ALL.iter().zip(&self.planes) {
+            for (k, rgb) in ["R", "G", "B"].iter().enumerate() {
+                channels.push(AnyChannel::new(
+                    format!("{}.{rgb}", c.name()).as_str(),
+                    FlatSamples::F32(plane.mean.iter().map(|v| v[k]).collect()),
+                ));
+                channels.push(AnyChannel::new(
+                    format!("{}.compensation.{rgb}", c.name()).as_str(),
+                    FlatSamples::F32(plane.compensation.iter().map(|v| v[k]).collect()),
+                ));
+            }
+            channels.push(AnyChannel::new(
+                format!("{}.count", c.name()).as_str(),
+                FlatSamples::U32(plane.count.clone()),
+            ));
+        }
+        let mut attributes = LayerAttributes::default();
+        let fp = &self.fingerprint;
+        let mut header = String::new();
+        for (name, value) in [
+            (ATTR_FORMAT, FORMAT.to_string()),
+            (ATTR_SAMPLES, self.samples.to_string()),
+            (ATTR_SIZE, format!("{w}x{h}")),
+            (ATTR_DROPPED, self.dropped.to_string()),
+            (ATTR_FINGERPRINT, fp.combined()),
+            (ATTR_GRAPH, hash_text(fp.graph)),
+            (ATTR_SCENE, hash_text(fp.scene)),
+            (ATTR_SETTINGS, fp.settings.clone()),
+            (ATTR_SOURCE, self.source.clone()),
+        ] {
+            // A line each: a value never spans two.
+            header += &format!("{name}: {}\n", value.replace(['\n', '\r'], " "));
+        }
+        attributes
+            .other
+            .insert(Text::from(HEADER), AttributeValue::Text(exr_text(&header)));
+        let layer = Layer::new(
+            (w as usize, h as usize),
+            attributes,
+            Encoding::SMALL_LOSSLESS,
+            AnyChannels::sort(channels),
+        );
+        let mut out = std::io::Cursor::new(Vec::new());
+        Image::from_layer(layer)
+            .write()
+            .to_buffered(&mut out)
+            .map_err(|e| format!("cannot encode the partial file: {e}"))?;
+        Ok(out.into_inner())
+    }
+
+    /// Writes the file whole or not at all (temporary file, then rename).
+    pub fn write(&self, path: &Path) -> Result<(), String> {
+        let bytes = self
+            .encode()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        write_atomic(path, &bytes).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    }
+
+    /// Reads and checks a partial file; every error names it.
+    pub fn read(path: &Path) -> Result<Partial, String> {
+        let bytes =
+            std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Partial::decode(&bytes).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Parses and checks a partial file's bytes.
+    pub fn decode(bytes: &[u8]) -> Result<Partial, String> {
+        let image = exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .all_layers()
+            .all_attributes()
+            // Pedantic: a missing or damaged chunk is an error, never silently zero.
+            .pedantic()
+            .non_parallel()
+            .from_buffered(std::io::Cursor::new(bytes))
+            .map_err(|e| format!("not a readable OpenEXR file (truncated or damaged?): {e}"))?;
+        let not_partial = || {
+            format!(
+                "not a passgraph partial file (no '{HEADER}' attribute; partial files are written by `passgraph render --partial` and `passgraph merge --partial`)"
+            )
+        };
+        let [layer] = image.layer_data.as_slice() else {
+            return match image.layer_data.first() {
+                Some(first) if text_attr(&first.attributes.other, HEADER).is_some() => {
+                    Err(format!(
+                        "holds {} parts; a partial file has one",
+                        image.layer_data.len()
+                    ))
+                }
+                _ => Err(not_partial()),
+            };
+        };
+        let header = text_attr(&layer.attributes.other, HEADER).ok_or_else(not_partial)?;
+        let mut fields = std::collections::BTreeMap::new();
+        for line in header.lines() {
+            let (key, value) = line.split_once(": ").ok_or_else(|| {
+                format!("the '{HEADER}' attribute has a line that is not 'key: value': '{line}'")
+            })?;
+            if fields.insert(key, value).is_some() {
+                return Err(format!("the '{HEADER}' attribute has two '{key}' lines"));
+            }
+        }
+        let need = |name: &str| {
+            fields
+                .get(name)
+                .map(|v| v.to_string())
+                .ok_or_else(|| format!("the '{HEADER}' attribute has no '{name}' line"))
+        };
+        let format = need(ATTR_FORMAT)?;
+        if format != FORMAT {
+            return Err(format!(
+                "'{ATTR_FORMAT}' is '{format}'; this passgraph reads '{FORMAT}'"
+            ));
+        }
+        let samples: SampleRange = need(ATTR_SAMPLES)?
+            .parse()
+            .map_err(|e| format!("'{ATTR_SAMPLES}': {e}"))?;
+        let size_text = need(ATTR_SIZE)?;
+        let size = [layer.size.0, layer.size.1].map(|v| v as u32);
+        if size_text != format!("{}x{}", size[0], size[1]) {
+            return Err(format!(
+                "'{ATTR_SIZE}' says {size_text} but the image is {}x{}",
+                size[0], size[1]
+            ));
+        }
+        let dropped: u64 = need(ATTR_DROPPED)?
+            .parse()
+            .map_err(|_| format!("'{ATTR_DROPPED}' is not a whole number"))?;
+        let hash = |name: &str| {
+            need(name).and_then(|t| {
+                parse_hash(&t).ok_or_else(|| format!("'{name}' is '{t}', not 32 hex digits"))
+            })
+        };
+        let fingerprint = Fingerprint {
+            graph: hash(ATTR_GRAPH)?,
+            scene: hash(ATTR_SCENE)?,
+            settings: need(ATTR_SETTINGS)?,
+        };
+        let combined = need(ATTR_FINGERPRINT)?;
+        if combined != fingerprint.combined() {
+            return Err(format!(
+                "'{ATTR_FINGERPRINT}' ({combined}) does not match its parts ({}): the header is damaged",
+                fingerprint.combined()
+            ));
+        }
+        let source = need(ATTR_SOURCE).unwrap_or_default();
+        let channels = &layer.channel_data.list;
+        let find = |name: &str| {
+            channels
+                .iter()
+                .find(|c| c.name == *name)
+                .map(|c| &c.sample_data)
+                .ok_or_else(|| format!("missing channel '{name}'"))
+        };
+        let f32s = |name: &str| match find(name)? {
+            FlatSamples::F32(v) => Ok(v),
+            other => Err(format!(
+                "channel '{name}' holds {}; a partial stores it as f32",
+                sample_type(other)
+            )),
+        };
+        let mut planes = Vec::new();
+        for c in Channel::ALL {
+            let n = c.name();
+            let [r, g, b] = [
+                f32s(&format!("{n}.R"))?,
+                f32s(&format!("{n}.G"))?,
+                f32s(&format!("{n}.B"))?,
+            ];
+            let [cr, cg, cb] = [
+                f32s(&format!("{n}.compensation.R"))?,
+                f32s(&format!("{n}.compensation.G"))?,
+                f32s(&format!("{n}.compensation.B"))?,
+            ];
+            let count = match find(&format!("{n}.count"))? {
+                FlatSamples::U32(v) => v.clone(),
+                other => {
+                    return Err(format!(
+                        "channel '{n}.count' holds {}; a partial stores it as u32",
+                        sample_type(other)
+                    ));
+                }
+            };
+            planes.push(Plane {
+                mean: (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect(),
+                compensation: (0..cr.len()).map(|i| [cr[i], cg[i], cb[i]]).collect(),
+                count,
+            });
+        }
+        let partial = Partial {
+            size,
+            samples,
+            dropped,
+            fingerprint,
+            source,
+            planes,
+        };
+        partial.check()?;
+        Ok(partial)
+    }
+
+    /// What every partial satisfies: planes of the image's size, finite values, counts no
+    /// larger than the range, a range no longer than counts can hold.
+    fn check(&self) -> Result<(), String> {
+        let pixels = self.size[0] as usize * self.size[1] as usize;
+        if self.planes.len() != Channel::ALL.len() {
+            return Err(format!("{} planes; a partial has 5", self.planes.len()));
+        }
+        for (c, p) in Channel::ALL.iter().zip(&self.planes) {
+            let name = c.name();
+            if p.mean.len() != pixels || p.compensation.len() != pixels || p.count.len() != pixels {
+                return Err(format!("channel '{name}' does not hold {pixels} pixels"));
+            }
+            let bad = p
+                .mean
+                .iter()
+                .chain(&p.compensation)
+                .position(|v| !v.iter().all(|x| x.is_finite()));
+            if let Some(i) = bad {
+                return Err(format!(
+                    "channel '{name}' has a non-finite value at pixel {}",
+                    pixel_name(i % pixels, self.size[0])
+                ));
+            }
+            if let Some(i) = p.count.iter().position(|&n| n > self.samples.len()) {
+                return Err(format!(
+                    "channel '{name}' counts {} samples at pixel {}, more than the range {} holds",
+                    p.count[i],
+                    pixel_name(i, self.size[0]),
+                    self.samples
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn pixel_name(i: usize, width: u32) -> String {
+    let w = width as usize;
+    format!("({}, {})", i % w, i / w)
+}
+
+fn sample_type(s: &FlatSamples) -> &'static str {
+    match s {
+        FlatSamples::F16(_) => "f16",
+        FlatSamples::F32(_) => "f32",
+        FlatSamples::U32(_) => "u32",
+    }
+}
+
+fn text_attr(
+    attrs: &std::collections::HashMap<Text, AttributeValue>,
+    name: &str,
+) -> Option<String> {
+    match attrs.get(&Text::from(name))? {
+        AttributeValue::Text(t) => Some(t.to_string()),
+        _ => None,
+    }
+}
+
+/// EXR text is one byte per character: anything else (a path in another script) becomes '?'.
+fn exr_text(s: &str) -> Text {
+    let ascii: String = s
+        .chars()
+        .map(|c| if c.is_ascii() { c } else { '?' })
+        .collect();
+    Text::from(ascii.as_str())
+}
