@@ -14,8 +14,14 @@ use std::process::{Command, Output};
 /// The planes of the accumulation but the sum, added: a difference in any of them shows.
 const ALL_PLANES: &str = "l0+direct+indirect+ambient";
 
-/// `frames` frames of `graph` at 48x40, whole or in tiles; the image, dropped samples, rays.
-fn render(graph: &str, tile: Option<[u32; 2]>, frames: u32) -> (RgbImage, u32, Option<u64>) {
+/// `frames` frames of `graph` at 48x40 from sample `first` on, whole or in tiles; the image,
+/// dropped samples, rays.
+fn render(
+    graph: &str,
+    tile: Option<[u32; 2]>,
+    first: u32,
+    frames: u32,
+) -> (RgbImage, u32, Option<u64>) {
     let s = passgraph::render::session::RenderSettings {
         size: [48, 40],
         max_frames: frames,
@@ -24,6 +30,7 @@ fn render(graph: &str, tile: Option<[u32; 2]>, frames: u32) -> (RgbImage, u32, O
     let channel: ChannelSelection = ALL_PLANES.parse().unwrap();
     let mut r = ImageRender::for_render(&s, &channel, tile).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r.tiling().is_some(), tile.is_some(), "{graph}");
+    r.start_at_sample(first);
     for _ in 0..r.steps(frames) {
         r.render_frame().unwrap();
     }
@@ -35,14 +42,14 @@ fn render(graph: &str, tile: Option<[u32; 2]>, frames: u32) -> (RgbImage, u32, O
     )
 }
 
-fn assert_bitwise_equal(graph: &str, tiles: &[[u32; 2]]) {
-    let (whole, dropped, rays) = render(graph, None, 2);
+fn assert_bitwise_equal(graph: &str, tiles: &[[u32; 2]], first: u32) {
+    let (whole, dropped, rays) = render(graph, None, first, 2);
     assert!(
         whole.mean().iter().all(|&m| m > 0.0),
         "{graph}: a black image proves nothing"
     );
     for &tile in tiles {
-        let (tiled, tiled_dropped, tiled_rays) = render(graph, Some(tile), 2);
+        let (tiled, tiled_dropped, tiled_rays) = render(graph, Some(tile), first, 2);
         let differing = whole
             .pixels
             .iter()
@@ -57,14 +64,20 @@ fn assert_bitwise_equal(graph: &str, tiles: &[[u32; 2]]) {
 #[test]
 fn tiles_equal_the_whole_image_bit_for_bit_with_the_default_graph() {
     // 16 divides 48 but not 40; 32x24 divides neither.
-    assert_bitwise_equal("graphs/pathtracer.ron", &[[16, 16], [32, 24]]);
+    assert_bitwise_equal("graphs/pathtracer.ron", &[[16, 16], [32, 24]], 0);
+}
+
+#[test]
+fn a_sample_range_renders_alike_in_tiles() {
+    // `--samples 5..7`: every tile starts at sample 5.
+    assert_bitwise_equal("graphs/pathtracer.ron", &[[16, 16]], 5);
 }
 
 #[test]
 fn tiles_equal_the_whole_image_bit_for_bit_with_the_fused_graphs() {
-    assert_bitwise_equal("graphs/pathtracer-fused.ron", &[[32, 24]]);
+    assert_bitwise_equal("graphs/pathtracer-fused.ron", &[[32, 24]], 0);
     // Several samples per frame and bounces per sample.
-    assert_bitwise_equal("graphs/pathtracer-fast.ron", &[[16, 16]]);
+    assert_bitwise_equal("graphs/pathtracer-fast.ron", &[[16, 16]], 0);
 }
 
 fn passgraph(args: &[&str]) -> Output {
