@@ -7,9 +7,11 @@ use super::error::GpuError;
 use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::resources::{BoundResource, GpuResources};
+use super::specialise::specialise;
 use crate::graph::decl::LoadOp;
 use crate::graph::interface::BindingKind;
 use crate::graph::plan::PlannedPass;
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use wgpu::util::DeviceExt;
 
@@ -200,10 +202,20 @@ fn create(
         immediate_size: 0,
     });
 
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label,
-        source: wgpu::ShaderSource::Wgsl(pass.shader.code.as_str().into()),
-    });
+    // The module specialised to this pass's override values, or the WGSL as written (then wgpu
+    // substitutes the values, and reports any error).
+    let entry = match pass.raster {
+        Some(_) => None,
+        None => Some((naga::ShaderStage::Compute, pass.entry.as_str())),
+    };
+    let (source, constants) = match specialise(&pass.shader.code, entry, constants) {
+        Some(module) => (wgpu::ShaderSource::Naga(Cow::Owned(module)), &[][..]),
+        None => (
+            wgpu::ShaderSource::Wgsl(pass.shader.code.as_str().into()),
+            constants,
+        ),
+    };
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label, source });
     let pipeline = match (&pass.raster, targets) {
         (Some(raster), Some(targets)) => {
             let color_targets: Vec<Option<wgpu::ColorTargetState>> = targets

@@ -123,7 +123,7 @@ fn reflect_entries(
 }
 
 /// The stack of the thread naga runs on.
-const NAGA_STACK_BYTES: usize = 256 << 20;
+pub const NAGA_STACK_BYTES: usize = 256 << 20;
 
 /// The most operators one statement may chain (`a + b + ...`): far more than hand-written
 /// code has, and far within what naga parses on `NAGA_STACK_BYTES` (100,000 took 3 s).
