@@ -4,11 +4,10 @@
 //! footprint all hit triangles of that one material (the CPU twin of the BVH).
 //!
 //! `cargo run --release --example material_regions -- SCENE.ron [SIZE] > regions.json`
-//! (default SIZE 128: a SIZE x SIZE image). Keep in step with `material_regions` in
-//! tests/materials_accuracy.rs.
+//! (default SIZE 128: a SIZE x SIZE image). The regions are `passgraph::scene::regions`'s.
 
-use passgraph::scene::{Ray, load_scene};
-use std::collections::BTreeMap;
+use passgraph::scene::load_scene;
+use passgraph::scene::regions::material_regions;
 use std::path::Path;
 
 fn main() {
@@ -29,39 +28,7 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(1);
     });
-    let gpu = scene.to_gpu();
-    let camera = scene.camera.to_gpu(size, size);
-    let mut regions: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-    for y in 0..size {
-        for x in 0..size {
-            let mut material = None;
-            let mut uniform = true;
-            for jy in [0.05, 0.5, 0.95] {
-                for jx in [0.05, 0.5, 0.95] {
-                    let dir = camera.ray_direction(size, size, x as f32 + jx, y as f32 + jy);
-                    let ray = Ray {
-                        origin: camera.eye.into(),
-                        dir,
-                    };
-                    let m = gpu
-                        .closest_hit(&ray, 0.0, f32::MAX)
-                        .map(|h| gpu.triangles[h.triangle as usize].material);
-                    if material.is_none() {
-                        material = Some(m);
-                    } else if material != Some(m) {
-                        uniform = false;
-                    }
-                }
-            }
-            if let (true, Some(Some(m))) = (uniform, material) {
-                let name = scene.mesh.material_names[m as usize].clone();
-                regions
-                    .entry(name)
-                    .or_default()
-                    .push((y * size + x) as usize);
-            }
-        }
-    }
+    let regions = material_regions(&scene, size, size);
     let body: Vec<String> = regions
         .iter()
         .map(|(name, pixels)| {

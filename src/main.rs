@@ -669,10 +669,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
                 .map_err(|e| format!("{}: {e}", path.display()))?,
         ));
     }
-    let files: Vec<(&std::path::Path, &[u8])> =
-        encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
-    passgraph::atomic_write::write_atomic_set(&files)
-        .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))?;
+    write_files(&encoded)?;
     if let Some((path, reference)) = &reference {
         let e = image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
         println!(
@@ -765,22 +762,27 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
                 .map_err(|e| format!("{}: {e}", path.display()))?,
         ));
     }
-    let files: Vec<(&std::path::Path, &[u8])> =
-        encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
-    passgraph::atomic_write::write_atomic_set(&files)
-        .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))?;
+    write_files(&encoded)?;
     println!(
         "merged {} partials: samples {}, {w}x{h}, {} dropped samples; wrote {}",
         args.partials.len(),
         merged.samples,
         merged.dropped,
-        files
+        encoded
             .iter()
             .map(|(p, _)| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
     );
     Ok(())
+}
+
+/// Writes encoded files as a set (all or none, see `write_atomic_set`); errors name the file.
+fn write_files(encoded: &[(&std::path::Path, Vec<u8>)]) -> Result<(), String> {
+    let files: Vec<(&std::path::Path, &[u8])> =
+        encoded.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    passgraph::atomic_write::write_atomic_set(&files)
+        .map_err(|(path, e)| format!("{}: cannot write: {e}", path.display()))
 }
 
 /// A positive frame count: zero frames would write a black image (or, for bench, render one).

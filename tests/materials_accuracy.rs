@@ -13,52 +13,10 @@ use common::reference::check_region;
 use common::render::{image, render, settings};
 use common::root;
 use passgraph::render::image::RgbImage;
-use passgraph::scene::{Ray, load_scene};
-use std::collections::BTreeMap;
-use std::path::Path;
+use passgraph::scene::load_scene;
+use passgraph::scene::regions::material_regions;
 
 const SIZE: u32 = 128;
-
-/// Pixel indices by material name: a pixel counts when a 3 x 3 grid of rays across its
-/// footprint (the CPU twin of the BVH) all hit triangles of that one material, so edges, where
-/// a pixel mixes materials, are left out.
-fn material_regions(scene_path: &Path) -> BTreeMap<String, Vec<usize>> {
-    let scene = load_scene(scene_path).unwrap_or_else(|e| panic!("{e}"));
-    let gpu = scene.to_gpu();
-    let camera = scene.camera.to_gpu(SIZE, SIZE);
-    let mut regions: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-    for y in 0..SIZE {
-        for x in 0..SIZE {
-            let mut material = None;
-            let mut uniform = true;
-            for jy in [0.05, 0.5, 0.95] {
-                for jx in [0.05, 0.5, 0.95] {
-                    let dir = camera.ray_direction(SIZE, SIZE, x as f32 + jx, y as f32 + jy);
-                    let ray = Ray {
-                        origin: camera.eye.into(),
-                        dir,
-                    };
-                    let m = gpu
-                        .closest_hit(&ray, 0.0, f32::MAX)
-                        .map(|h| gpu.triangles[h.triangle as usize].material);
-                    if material.is_none() {
-                        material = Some(m);
-                    } else if material != Some(m) {
-                        uniform = false;
-                    }
-                }
-            }
-            if let (true, Some(Some(m))) = (uniform, material) {
-                let name = scene.mesh.material_names[m as usize].clone();
-                regions
-                    .entry(name)
-                    .or_default()
-                    .push((y * SIZE + x) as usize);
-            }
-        }
-    }
-    regions
-}
 
 fn reference(name: &str) -> RgbImage {
     RgbImage::read_exr(&root().join("tests/data/references").join(name)).unwrap()
@@ -102,7 +60,11 @@ fn check_depth(depth: u32, frames: u32) {
             p[k] = 0.5 * (p[k] + q[k]);
         }
     }
-    let regions = material_regions(&scene);
+    let regions = material_regions(
+        &load_scene(&scene).unwrap_or_else(|e| panic!("{e}")),
+        SIZE,
+        SIZE,
+    );
     for name in [
         "gold",
         "blue_plastic",

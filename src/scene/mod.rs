@@ -18,6 +18,7 @@ pub mod mesh;
 pub mod mitsuba;
 mod obj;
 mod ply;
+pub mod regions;
 pub mod texture;
 
 pub use bvh::{Bvh, BvhStats};

@@ -1,0 +1,47 @@
+//! Image regions by material: which pixels of a `width` x `height` render of a scene see one
+//! material only. What per-material accuracy is measured over (tests/materials_accuracy.rs,
+//! examples/material_regions.rs for scripts).
+
+use super::file::Scene;
+use super::intersect::Ray;
+use std::collections::BTreeMap;
+
+/// Pixel indices (y * width + x, row 0 at the top) by material name: a pixel counts when a
+/// 3 x 3 grid of rays across its footprint (the CPU twin of the BVH) all hit triangles of that
+/// one material, so edges, where a pixel mixes materials, are left out.
+pub fn material_regions(scene: &Scene, width: u32, height: u32) -> BTreeMap<String, Vec<usize>> {
+    let gpu = scene.to_gpu();
+    let camera = scene.camera.to_gpu(width, height);
+    let mut regions: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for y in 0..height {
+        for x in 0..width {
+            let mut material = None;
+            let mut uniform = true;
+            for jy in [0.05, 0.5, 0.95] {
+                for jx in [0.05, 0.5, 0.95] {
+                    let dir = camera.ray_direction(width, height, x as f32 + jx, y as f32 + jy);
+                    let ray = Ray {
+                        origin: camera.eye.into(),
+                        dir,
+                    };
+                    let m = gpu
+                        .closest_hit(&ray, 0.0, f32::MAX)
+                        .map(|h| gpu.triangles[h.triangle as usize].material);
+                    if material.is_none() {
+                        material = Some(m);
+                    } else if material != Some(m) {
+                        uniform = false;
+                    }
+                }
+            }
+            if let (true, Some(Some(m))) = (uniform, material) {
+                let name = scene.mesh.material_names[m as usize].clone();
+                regions
+                    .entry(name)
+                    .or_default()
+                    .push((y * width + x) as usize);
+            }
+        }
+    }
+    regions
+}
