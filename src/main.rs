@@ -11,7 +11,7 @@ use passgraph::render::partial::{MAX_RANGE, Partial, SampleRange};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -170,6 +170,10 @@ struct RenderArgs {
     /// With --camera-path: write the per-frame errors as CSV.
     #[arg(long, requires = "camera_path")]
     error_csv: Option<PathBuf>,
+    /// With --camera-path: render segment K (from 1) alone, as the whole path renders it (a
+    /// unit a job system can distribute); K must start an accumulation (move the camera).
+    #[arg(long, value_name = "K", requires = "camera_path", value_parser = parse_frames)]
+    segment: Option<u32>,
 }
 
 #[derive(clap::Args)]
@@ -413,11 +417,46 @@ struct PathError {
     error: passgraph::bench::metrics::ImageError,
 }
 
+/// Segment `k` (from 1) of a camera path, and the frames of the segments before it. A segment
+/// that keeps the previous one's camera continues its accumulation, so it cannot be rendered
+/// alone.
+fn one_segment<'a>(
+    path: &Path,
+    segments: &'a [Segment],
+    k: u32,
+) -> Result<(&'a Segment, u32), String> {
+    let i = k as usize - 1;
+    let Some(segment) = segments.get(i) else {
+        return Err(format!(
+            "{}: --segment {k}: the path has {} segments",
+            path.display(),
+            segments.len()
+        ));
+    };
+    if i > 0 && segments[i - 1].camera == segment.camera {
+        return Err(format!(
+            "{}: --segment {k}: segment {k} keeps segment {i}'s camera, so it continues that accumulation and cannot be rendered alone (render from the segment that moves the camera)",
+            path.display()
+        ));
+    }
+    let before = segments[..i]
+        .iter()
+        .try_fold(0u32, |sum, s| sum.checked_add(s.frames))
+        .ok_or_else(|| {
+            format!(
+                "{}: more than 2^32 frames before segment {k}",
+                path.display()
+            )
+        })?;
+    Ok((segment, before))
+}
+
 /// Renders each segment at its camera (a move restarts the accumulation; a reprojecting graph
 /// keeps what it can) and measures `channel` after every frame of segments with a reference.
 fn render_camera_path(
     session: &mut Session,
     segments: &[Segment],
+    (first_segment, frames_before): (u32, u32),
     channel: &ChannelSelection,
 ) -> Result<Vec<PathError>, String> {
     // Every reference is read and checked before the first frame.
@@ -441,8 +480,9 @@ fn render_camera_path(
         });
     }
     let mut rows = Vec::new();
-    let mut frame = 0;
+    let mut frame = frames_before;
     for (i, (segment, reference)) in segments.iter().zip(&references).enumerate() {
+        let number = first_segment as usize + i;
         if segment.camera != session.scene_description().camera {
             session
                 .set_camera(segment.camera)
@@ -458,15 +498,14 @@ fn render_camera_path(
             let error =
                 image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
             println!(
-                "frame {frame} (segment {}, {} accumulated): RMSE {:.5}, relMSE {:.3e}",
-                i + 1,
+                "frame {frame} (segment {number}, {} accumulated): RMSE {:.5}, relMSE {:.3e}",
                 session.accumulated(),
                 error.rmse,
                 error.relmse
             );
             rows.push(PathError {
                 frame,
-                segment: i + 1,
+                segment: number,
                 accumulated: session.accumulated(),
                 error,
             });
@@ -609,7 +648,16 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         let session = render.whole_mut().ok_or_else(|| {
             "--camera-path renders whole images only: use a smaller --size".to_string()
         })?;
-        let rows = render_camera_path(session, segments, &args.channel)?;
+        let (segments, first) = match args.segment {
+            Some(k) => {
+                let path = args.camera_path.as_deref().unwrap_or(Path::new(""));
+                let (segment, frames_before) = one_segment(path, segments, k)?;
+                session.skip_frames(frames_before);
+                (std::slice::from_ref(segment), (k, frames_before))
+            }
+            None => (segments.as_slice(), (1, 0)),
+        };
+        let rows = render_camera_path(session, segments, first, &args.channel)?;
         if let Some(csv) = &args.error_csv {
             let mut text = String::from("frame,segment,accumulated,rmse,relmse,bias\n");
             for r in &rows {

@@ -309,6 +309,14 @@ impl Session {
         self.first_sample = first;
     }
 
+    /// Moves the frame index on by `frames` without rendering them, as if they had been rendered
+    /// into an accumulation since restarted: a camera path's later segment, rendered alone
+    /// (`--segment`), then draws the samples it draws in the whole path, also in graphs whose
+    /// sample index runs on over restarts (`sample_index_restarts` false).
+    pub fn skip_frames(&mut self, frames: u32) {
+        self.index = self.index.saturating_add(frames);
+    }
+
     /// The sample index of the accumulation's first frame (0 unless
     /// [`Session::start_at_sample`] moved it).
     pub fn first_sample(&self) -> u32 {
