@@ -87,36 +87,38 @@ fn an_emitter_behind_a_half_opaque_sheet_is_seen_half_the_time() {
     );
 }
 
-#[test]
-fn a_half_opaque_sheet_halves_the_direct_light_under_it() {
-    // A floor (y = 0) lit by a light (y = 2, facing down) through a black sheet (y = 1) that
-    // covers the whole light as seen from the floor; the camera between floor and sheet. With
-    // d 0.5 the direct light is half what it is with d 0 (the sheet passes every ray).
+/// The direct light on a floor (y = 0) lit by a light (y = 2, facing down) through a black
+/// sheet (y = 1, material `sheet`, with texture coordinates) that covers the whole light as
+/// seen from the floor; the camera between floor and sheet. `alpha.png` is a uniform grey of
+/// 128/255, for a `map_d` sheet.
+fn direct_under(sheet: &str) -> Vec<f64> {
     let obj = "mtllib cutout.mtl\n\
+        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
         usemtl floor\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nv 10 0 -10\nf 1 2 3 4\n\
-        usemtl sheet\nv -20 1 -20\nv -20 1 20\nv 20 1 20\nv 20 1 -20\nf 5 6 7 8\n\
+        usemtl sheet\nv -20 1 -20\nv -20 1 20\nv 20 1 20\nv 20 1 -20\nf 5/1 6/2 7/3 8/4\n\
         usemtl glow\nv -1 2 -1\nv 1 2 -1\nv 1 2 1\nv -1 2 1\nf 9 10 11 12\n";
     let camera = "Camera(eye: (0, 0.5, -1), target: (0, 0, 0.5), up: (0, 1, 0), fov_y: 60)";
-    let direct = |d: &str| {
-        let mtl = format!(
-            "newmtl floor\nKd 0.5 0.5 0.5\n{}newmtl glow\nKd 0 0 0\nKe 1 1 1\n",
-            SHEET.replace('D', d)
-        );
-        let dir = scene(obj, &mtl, camera);
-        let session = render(
-            &settings(
-                "graphs/pathtracer.ron",
-                dir.path().join("scene.ron"),
-                32,
-                1,
-                &[],
-            ),
+    let mtl = format!("newmtl floor\nKd 0.5 0.5 0.5\n{sheet}newmtl glow\nKd 0 0 0\nKe 1 1 1\n");
+    let grey = image::GrayImage::from_pixel(4, 4, image::Luma([128]));
+    let dir = scene_with_map(obj, &mtl, camera, Some(grey));
+    let session = render(
+        &settings(
+            "graphs/pathtracer.ron",
+            dir.path().join("scene.ron"),
             32,
-        );
-        values(&image(&session, "direct"))
-    };
-    let half = direct("0.5");
-    let open = direct("0");
+            1,
+            &[],
+        ),
+        32,
+    );
+    values(&image(&session, "direct"))
+}
+
+#[test]
+fn a_half_opaque_sheet_halves_the_direct_light_under_it() {
+    // With d 0.5 the direct light is half what it is with d 0 (the sheet passes every ray).
+    let half = direct_under(&SHEET.replace('D', "0.5"));
+    let open = direct_under(&SHEET.replace('D', "0"));
     let difference: Vec<f64> = half.iter().zip(&open).map(|(h, o)| h - 0.5 * o).collect();
     let (mean, se) = mean_and_se(&difference);
     let (open_mean, _) = mean_and_se(&open);
@@ -206,30 +208,8 @@ fn a_grey_map_d_sheet_stops_its_raw_value_of_the_direct_light() {
     // As the constant-d test, with the sheet's opacity from a uniform grey map_d of 128/255,
     // read raw (not sRGB-decoded: that would be 0.216): the direct light under it is
     // 1 - 128/255 of the open sheet's.
-    let obj = "mtllib cutout.mtl\n\
-        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
-        usemtl floor\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nv 10 0 -10\nf 1 2 3 4\n\
-        usemtl sheet\nv -20 1 -20\nv -20 1 20\nv 20 1 20\nv 20 1 -20\nf 5/1 6/2 7/3 8/4\n\
-        usemtl glow\nv -1 2 -1\nv 1 2 -1\nv 1 2 1\nv -1 2 1\nf 9 10 11 12\n";
-    let camera = "Camera(eye: (0, 0.5, -1), target: (0, 0, 0.5), up: (0, 1, 0), fov_y: 60)";
-    let direct = |sheet: &str| {
-        let mtl = format!("newmtl floor\nKd 0.5 0.5 0.5\n{sheet}newmtl glow\nKd 0 0 0\nKe 1 1 1\n");
-        let grey = image::GrayImage::from_pixel(4, 4, image::Luma([128]));
-        let dir = scene_with_map(obj, &mtl, camera, Some(grey));
-        let session = render(
-            &settings(
-                "graphs/pathtracer.ron",
-                dir.path().join("scene.ron"),
-                32,
-                1,
-                &[],
-            ),
-            32,
-        );
-        values(&image(&session, "direct"))
-    };
-    let grey = direct(MAP_SHEET);
-    let open = direct(&SHEET.replace('D', "0"));
+    let grey = direct_under(MAP_SHEET);
+    let open = direct_under(&SHEET.replace('D', "0"));
     let transmitted = 1.0 - 128.0 / 255.0;
     let difference: Vec<f64> = grey
         .iter()
