@@ -114,22 +114,32 @@ fn direct_under(sheet: &str) -> Vec<f64> {
     values(&image(&session, "direct"))
 }
 
-#[test]
-fn a_half_opaque_sheet_halves_the_direct_light_under_it() {
-    // With d 0.5 the direct light is half what it is with d 0 (the sheet passes every ray).
-    let half = direct_under(&SHEET.replace('D', "0.5"));
-    let open = direct_under(&SHEET.replace('D', "0"));
-    let difference: Vec<f64> = half.iter().zip(&open).map(|(h, o)| h - 0.5 * o).collect();
+/// Asserts that the direct light under a sheet is `fraction` of it under an open sheet (d 0),
+/// pixel by pixel, within five standard errors of the differences' mean.
+fn assert_transmits(under: &[f64], open: &[f64], fraction: f64, sheet: &str) {
+    let difference: Vec<f64> = under
+        .iter()
+        .zip(open)
+        .map(|(u, o)| u - fraction * o)
+        .collect();
     let (mean, se) = mean_and_se(&difference);
-    let (open_mean, _) = mean_and_se(&open);
+    let (open_mean, _) = mean_and_se(open);
     assert!(
         open_mean > 0.01,
         "the open sheet should let light through: {open_mean}"
     );
     assert!(
         mean.abs() < 5.0 * se,
-        "direct with d 0.5 minus half of direct with d 0: {mean} (se {se}); open {open_mean}"
+        "direct under {sheet} minus {fraction} of direct with d 0: {mean} (se {se}); open {open_mean}"
     );
+}
+
+#[test]
+fn a_half_opaque_sheet_halves_the_direct_light_under_it() {
+    // With d 0.5 the direct light is half what it is with d 0 (the sheet passes every ray).
+    let half = direct_under(&SHEET.replace('D', "0.5"));
+    let open = direct_under(&SHEET.replace('D', "0"));
+    assert_transmits(&half, &open, 0.5, "d 0.5");
 }
 
 /// A 32x32 checker of four 16x16 cells: opaque (255) top left and bottom right, open (0) else.
@@ -211,19 +221,5 @@ fn a_grey_map_d_sheet_stops_its_raw_value_of_the_direct_light() {
     let grey = direct_under(MAP_SHEET);
     let open = direct_under(&SHEET.replace('D', "0"));
     let transmitted = 1.0 - 128.0 / 255.0;
-    let difference: Vec<f64> = grey
-        .iter()
-        .zip(&open)
-        .map(|(g, o)| g - transmitted * o)
-        .collect();
-    let (mean, se) = mean_and_se(&difference);
-    let (open_mean, _) = mean_and_se(&open);
-    assert!(
-        open_mean > 0.01,
-        "the open sheet should let light through: {open_mean}"
-    );
-    assert!(
-        mean.abs() < 5.0 * se,
-        "direct under the grey map minus {transmitted} of direct with d 0: {mean} (se {se}); open {open_mean}"
-    );
+    assert_transmits(&grey, &open, transmitted, "the grey map_d");
 }
