@@ -2,7 +2,10 @@
 // them, chosen with probability proportional to its power (scene.light_power: area x luminance
 // of Ke) over its squared distance. Next-event estimation divides by that probability, so the
 // estimate stays unbiased. The including shader declares `triangles`, `lights` and
-// `light_power` (texel views) and includes scene and surface.
+// `light_power` (texel views) and includes scene and surface. Lights that are not area lights
+// weigh by lib/emitters.wgsl's delta_light_weight, the environment by its table weight alone
+// (pi times its mean luminance: the irradiance it would give a surface open to all of it).
+#include "emitters.wgsl"
 
 // No light can contribute: every weight is 0.
 const LIGHT_NONE: u32 = 0xffffffffu;
@@ -19,6 +22,13 @@ struct LightChoice {
 // that a point next to a light does not give it an unbounded weight.
 fn light_weight(origin: vec3<f32>, n: vec3<f32>, i: u32) -> f32 {
     let light = scene_light(lights, i);
+    let kind = light_kind(light);
+    if kind == LIGHT_ENVIRONMENT_MAP || kind == LIGHT_ENVIRONMENT_CONSTANT {
+        return scene_light_power(light_power, i);
+    }
+    if kind != LIGHT_AREA {
+        return delta_light_weight(light, kind, origin, n, scene_light_power(light_power, i));
+    }
     let normal = cross(light.e1, light.e2);
     if dot(normal, origin - light.p0) <= 0.0 {
         return 0.0;

@@ -3,6 +3,8 @@
 // shader declares `triangles`, `materials`, `lights`, `light_power`, `bvh` and `frame`, and
 // includes scene, rng, sampler, sampling, bsdf, mis, bvh, surface, shading_point,
 // light_sample and light_select.
+#include "emitters.wgsl"
+#include "environment.wgsl"
 
 // A pass param: one light per shading point, chosen by light_select.wgsl, instead of all.
 override light_selection: bool = false;
@@ -23,6 +25,10 @@ fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select
 // 0 if occluded. pmf: the probability light i was chosen (1 when every light is sampled).
 fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>, pmf: f32) -> vec3<f32> {
     let light = scene_light(lights, i);
+    let kind = light_kind(light);
+    if kind != LIGHT_AREA {
+        return emitter_contribution(p, wo, origin, light, kind, u, pmf);
+    }
     let l = sample_light(p.s, origin, light, u);
     if l.cos_x <= 0.0 || l.cos_y <= 0.0 {
         return vec3<f32>(0.0);
@@ -38,6 +44,55 @@ fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32,
     let inverse_pdf = l.geometry / l.cos_x;
     let weight = mis_light_weight(pmf / inverse_pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, l.wi));
     return f * scene_material_ke(materials, light.material) * (inverse_pdf * weight / pmf);
+}
+
+// light_contribution for a light that is not an area light: a delta light (no MIS: no BSDF
+// sample can meet it) or the environment, whose shadow ray runs to infinity through the whole
+// scene (the hull faces block it too: it is no segment between scene points).
+fn emitter_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, light: Light, kind: u32, u: vec2<f32>, pmf: f32) -> vec3<f32> {
+    var e: EmitterSample;
+    if kind == LIGHT_ENVIRONMENT_MAP || kind == LIGHT_ENVIRONMENT_CONSTANT {
+        e = environment_sample(light, u);
+    } else {
+        e = sample_delta_light(light, kind, origin);
+    }
+    if dot(p.s.n, e.wi) <= 0.0 || all(e.value == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let f = bsdf_eval(p.b, p.ns, p.s.front, wo, e.wi);
+    if all(f == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    if e.infinite {
+        if any_hit(origin, e.wi, 0.0, 3.0e38) {
+            return vec3<f32>(0.0);
+        }
+    } else if shadow_hit(origin, e.end - origin, 0.0, 1.0 - 1e-4) {
+        return vec3<f32>(0.0);
+    }
+    var weight = 1.0;
+    if e.pdf > 0.0 {
+        weight = mis_light_weight(pmf * e.pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, e.wi));
+    }
+    return f * e.value * (weight / pmf);
+}
+
+// The environment's radiance a BSDF sample from p meets when its ray leaves the scene, times
+// its MIS weight against light sampling from p (as emission_weighted for an emitter it hits).
+fn environment_weighted(p: ShadingPoint, bs: BsdfSample) -> vec3<f32> {
+    if !scene_has_environment() || (!bs.delta && !mis_uses_bsdf()) {
+        return vec3<f32>(0.0);
+    }
+    let env = scene_light(lights, scene_environment);
+    let le = environment_radiance(env, bs.wi);
+    var pdf_light = 0.0;
+    if !bs.delta && mis_uses_light() && dot(p.s.n, bs.wi) > 0.0 {
+        pdf_light = environment_pdf(env, bs.wi);
+        if light_selection {
+            pdf_light *= light_pmf(offset_ray(p.s.p, p.s.n), p.s.n, scene_environment);
+        }
+    }
+    return le * mis_bsdf_weight(bs.pdf, bs.delta, pdf_light);
 }
 
 // One light, drawn with probability pmf, and its contribution divided by pmf.

@@ -50,11 +50,13 @@ fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -
         }
         let origin = leaving(x.s, next.wi);
         let hit = closest_hit(origin, next.wi, 0.0, 3.0e38);
+        throughput *= next.weight;
         if hit.triangle == NO_HIT {
+            // The path of `depth` segments ends in the environment.
+            sum += throughput * environment_weighted(x, next);
             break;
         }
         let y = shading_point(hit.triangle, hit.u, hit.v, next.wi);
-        throughput *= next.weight;
         sum += throughput * emission_weighted(x, origin, next, y);
         x = y;
         dir = next.wi;

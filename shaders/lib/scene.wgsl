@@ -22,8 +22,24 @@ override scene_has_uvs: bool = true;
 override scene_has_textures: bool = true;
 override scene_has_cutouts: bool = false;
 
+// Bit 1 << kind for each kind of light in scene.lights (LIGHT_AREA, ...): code for absent
+// kinds is specialised away, so a scene of emissive triangles traces as it always did.
+override scene_light_kinds: u32 = 0xffffffffu;
+// The environment's index in scene.lights (lib/emitters.wgsl), or NO_LIGHT: rays that miss
+// see black.
+override scene_environment: u32 = 0xffffffffu;
+
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
+}
+
+fn scene_has_light_kind(kind: u32) -> bool {
+    return (scene_light_kinds & (1u << kind)) != 0u;
+}
+
+// Whether every light is an emissive triangle or parallelogram.
+fn scene_area_lights_only() -> bool {
+    return (scene_light_kinds & ~(1u << LIGHT_AREA)) == 0u;
 }
 
 // One triangle, in BVH order; `material` indexes `scene.materials`, `light` `scene.lights` (the
@@ -99,6 +115,23 @@ struct Light {
 }
 
 const LIGHT_NO_TRIANGLE: u32 = 0xffffffffu;
+
+// A light whose `material` is LIGHT_TAG + kind is not an area light (src/scene/lights.rs);
+// lib/emitters.wgsl reads its fields by kind.
+const LIGHT_TAG: u32 = 0xfffffff0u;
+const LIGHT_AREA: u32 = 0u;
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
+const LIGHT_ENVIRONMENT_MAP: u32 = 4u;
+const LIGHT_ENVIRONMENT_CONSTANT: u32 = 5u;
+
+fn light_kind(light: Light) -> u32 {
+    if scene_area_lights_only() {
+        return LIGHT_AREA;
+    }
+    return select(LIGHT_AREA, light.material - LIGHT_TAG, light.material >= LIGHT_TAG);
+}
 
 // A threaded BVH node, decoded (scene.bvh stores it packed: PackedBvhNode). Interior: count == 0, `a` is the miss link (skip); the hit
 // link is implicit (this index + 1). Leaf: count > 0 triangles from index `a`; a leaf's next

@@ -17,7 +17,8 @@ struct DirectSample {
 
 fn shade_direct(ray: Primary, source: SampleSource) -> DirectSample {
     if ray.triangle == NO_HIT {
-        return DirectSample(vec3<f32>(0.0), vec3<f32>(0.0));
+        // A camera ray that leaves the scene sees the environment (L0), as in Mitsuba.
+        return DirectSample(environment_seen(ray.dir), vec3<f32>(0.0));
     }
     let p = shading_point(ray.triangle, ray.u, ray.v, ray.dir);
     let wo = -ray.dir;
@@ -43,7 +44,7 @@ fn bsdf_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> vec3<f32>
     let origin = leaving(p.s, bs.wi);
     let hit = closest_hit(origin, bs.wi, 0.0, 3.0e38);
     if hit.triangle == NO_HIT {
-        return vec3<f32>(0.0);
+        return bs.weight * environment_weighted(p, bs);
     }
     let q = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
     return bs.weight * emission_weighted(p, origin, bs, q);

@@ -61,14 +61,14 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: "scene.lights",
         kind: ProvidedKind::StorageBuffer,
-        what: "the lights: emissive triangles, and parallelograms of two (p0, e1, e2, material, triangles; 48 bytes each)",
+        what: "the lights: emissive triangles and parallelograms of two (p0, e1, e2, material, triangles), then point, spot and directional lights and the environment (tagged by material: src/scene/lights.rs); 48 bytes each",
         bytes: |i| bytemuck::cast_slice(&i.gpu.lights).to_vec(),
     },
     Resource {
         name: "scene.light_power",
         kind: ProvidedKind::StorageBuffer,
-        what: "f32 power of each light (area x luminance of Ke), in scene.lights order",
-        bytes: |i| bytemuck::cast_slice(&i.gpu.light_power).to_vec(),
+        what: "f32 selection weight of each light (area x luminance of Ke; src/scene/emitters.rs for the others), in scene.lights order, then an environment map's sampling tables (src/scene/environment.rs)",
+        bytes: |i| i.gpu.light_power_bytes(),
     },
     Resource {
         name: "scene.shading",
@@ -116,6 +116,18 @@ const OVERRIDES: &[Override] = &[
         ty: ParamType::U32,
         what: "number of emissive triangles (0: no shadow rays)",
         value: |gpu| f64::from(gpu.light_count),
+    },
+    Override {
+        name: "scene_light_kinds",
+        ty: ParamType::U32,
+        what: "bit 1 << kind for each kind of light in scene.lights (area, point, spot, directional, environment map, uniform environment: src/scene/lights.rs)",
+        value: |gpu| f64::from(gpu.light_kinds),
+    },
+    Override {
+        name: "scene_environment",
+        ty: ParamType::U32,
+        what: "the environment's index in scene.lights, or 0xffffffff without one (rays that miss see black)",
+        value: |gpu| f64::from(gpu.environment_light.unwrap_or(u32::MAX)),
     },
     Override {
         name: "scene_triangle_count",

@@ -6,14 +6,27 @@
 //!     mesh: "cornell.obj",
 //!     camera: Camera(eye: (278, 273, -800), target: (278, 273, 0), up: (0, 1, 0), fov_y: 39.3077),
 //!     max_depth: 8,
+//!     // Optional: lights besides the emissive triangles, and the environment.
+//!     lights: [
+//!         Point(position: (278, 500, 279), intensity: (4e4, 4e4, 4e4)),
+//!         Spot(position: (278, 540, 279), target: (278, 0, 279), intensity: (1e5, 1e5, 1e5),
+//!              cutoff_angle: 20, beam_width: 15),
+//!         Directional(direction: (0, -1, 0.2), irradiance: (3, 3, 3)),
+//!     ],
+//!     environment: Environment(file: "sky.exr", scale: 1, to_world: [Rotate(axis: (0, 1, 0), angle: 90)]),
+//!     // or: environment: Environment(color: (0.5, 0.5, 0.5)),
 //! )
 //! ```
 
 use super::camera::{CameraDesc, CameraError};
+use super::emitters::{AnalyticLight, Emitters};
+use super::environment::{Environment, EnvironmentMap};
+use super::environment_image::load_environment_image;
 use super::error::{Location, SceneError};
 use super::gpu::DEFAULT_MAX_DEPTH;
+use super::mesh::MAX_COORDINATE;
 use super::mesh::{Mesh, load_mesh};
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 use serde::Deserialize;
 use serde::de::{self, Deserializer, Visitor};
 use std::fmt;
@@ -29,6 +42,8 @@ pub struct Scene {
     /// The longest path in segments, as Mitsuba's `max_depth` (1: emitters seen directly,
     /// 2: direct light, 3: one bounce, ...); at least 1.
     pub max_depth: u32,
+    /// Point, spot and directional lights and the environment.
+    pub emitters: Emitters,
 }
 
 /// The built-in default scene, relative to the crate root.
@@ -42,6 +57,52 @@ struct SceneFile {
     camera: CameraFile,
     #[serde(default = "default_max_depth")]
     max_depth: i64,
+    #[serde(default)]
+    lights: Vec<LightFile>,
+    #[serde(default)]
+    environment: Option<EnvironmentFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+enum LightFile {
+    Point {
+        position: (Number, Number, Number),
+        intensity: (Number, Number, Number),
+    },
+    Spot {
+        position: (Number, Number, Number),
+        target: (Number, Number, Number),
+        intensity: (Number, Number, Number),
+        /// Degrees; Mitsuba's default 20.
+        cutoff_angle: Option<Number>,
+        /// Degrees; Mitsuba's default 3/4 of the cutoff angle.
+        beam_width: Option<Number>,
+    },
+    Directional {
+        direction: (Number, Number, Number),
+        irradiance: (Number, Number, Number),
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(rename = "Environment", deny_unknown_fields)]
+struct EnvironmentFile {
+    file: Option<PathBuf>,
+    color: Option<(Number, Number, Number)>,
+    scale: Option<Number>,
+    #[serde(default)]
+    to_world: Vec<TransformFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+enum TransformFile {
+    /// A right-handed rotation by `angle` degrees about `axis`, as Mitsuba's `rotate`.
+    Rotate {
+        axis: (Number, Number, Number),
+        angle: Number,
+    },
 }
 
 fn default_max_depth() -> i64 {
@@ -143,13 +204,200 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         message,
     })?;
     let dir = path.parent().unwrap_or(Path::new(""));
+    let at = |field: &str| Location {
+        path: path.to_path_buf(),
+        line: field_line(&text, field),
+        item: None,
+    };
+    let lights = file
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(k, light)| {
+            analytic_light(light).map_err(|message| SceneError::Syntax {
+                at: Location {
+                    line: nth_variant_line(&text, "lights", k).or(field_line(&text, "lights")),
+                    ..at("lights")
+                },
+                message: format!("lights[{k}]: {message}"),
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let environment = file
+        .environment
+        .as_ref()
+        .map(|e| {
+            environment(e, dir).map_err(|message| SceneError::Syntax {
+                at: at("environment"),
+                message,
+            })
+        })
+        .transpose()?;
     let mesh = load_mesh(&dir.join(&file.mesh))?;
     Ok(Scene {
         path: path.to_path_buf(),
         mesh,
         camera,
         max_depth,
+        emitters: Emitters {
+            lights,
+            environment,
+        },
     })
+}
+
+/// A finite point; `what` names it in the message.
+fn finite_point(p: (Number, Number, Number), what: &str) -> Result<Vec3, String> {
+    let v = vec3(p);
+    if !v.is_finite() {
+        return Err(format!("{what} {v} must be finite"));
+    }
+    if v.abs().max_element() > MAX_COORDINATE {
+        return Err(format!(
+            "{what} {v} lies beyond ±{MAX_COORDINATE:e}, where the renderer's f32 arithmetic overflows"
+        ));
+    }
+    Ok(v)
+}
+
+/// A colour: finite, not negative.
+fn colour(c: (Number, Number, Number), what: &str) -> Result<Vec3, String> {
+    let v = vec3(c);
+    if !v.is_finite() || v.min_element() < 0.0 {
+        return Err(format!(
+            "{what} {v} must be finite and not negative in every channel"
+        ));
+    }
+    Ok(v)
+}
+
+fn analytic_light(light: &LightFile) -> Result<AnalyticLight, String> {
+    Ok(match *light {
+        LightFile::Point {
+            position,
+            intensity,
+        } => AnalyticLight::Point {
+            position: finite_point(position, "position")?,
+            intensity: colour(intensity, "intensity")?,
+        },
+        LightFile::Spot {
+            position,
+            target,
+            intensity,
+            cutoff_angle,
+            beam_width,
+        } => {
+            let position = finite_point(position, "position")?;
+            let target = finite_point(target, "target")?;
+            if (target - position).length() <= 0.0 || !(target - position).length().is_finite() {
+                return Err("a spot's target must differ from its position".into());
+            }
+            let cutoff = cutoff_angle.map_or(20.0, |n| n.0);
+            if !(cutoff > 0.0 && cutoff <= 90.0) {
+                return Err(format!(
+                    "cutoff_angle is {cutoff} degrees; it must be in (0, 90]"
+                ));
+            }
+            let beam = beam_width.map_or(0.75 * cutoff, |n| n.0);
+            if !(beam > 0.0 && beam <= cutoff) {
+                return Err(format!(
+                    "beam_width is {beam} degrees; it must be in (0, cutoff_angle = {cutoff}]"
+                ));
+            }
+            AnalyticLight::Spot {
+                position,
+                target,
+                intensity: colour(intensity, "intensity")?,
+                cutoff_angle: cutoff,
+                beam_width: beam,
+            }
+        }
+        LightFile::Directional {
+            direction,
+            irradiance,
+        } => {
+            let d = finite_point(direction, "direction")?;
+            let unit = d
+                .try_normalize()
+                .ok_or_else(|| format!("direction {d} must be a nonzero vector"))?;
+            AnalyticLight::Directional {
+                direction: unit,
+                irradiance: colour(irradiance, "irradiance")?,
+            }
+        }
+    })
+}
+
+fn environment(e: &EnvironmentFile, dir: &Path) -> Result<Environment, String> {
+    let scale = e.scale.map_or(1.0, |n| n.0);
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(format!(
+            "environment scale is {scale}; it must be finite and not negative"
+        ));
+    }
+    let mut to_world = Mat3::IDENTITY;
+    for t in &e.to_world {
+        let TransformFile::Rotate { axis, angle } = *t;
+        let axis = finite_point(axis, "rotation axis")?
+            .try_normalize()
+            .ok_or("a rotation axis must be a nonzero vector")?;
+        if !angle.0.is_finite() {
+            return Err(format!("rotation angle {} must be finite", angle.0));
+        }
+        // Each rotation applies after the ones before it, as in Mitsuba's <transform>.
+        to_world = Mat3::from_axis_angle(axis, angle.0.to_radians()) * to_world;
+    }
+    match (&e.file, e.color) {
+        (Some(_), Some(_)) => Err("an environment has a file or a color, not both".into()),
+        (None, None) => {
+            Err("an environment needs a file (an .exr or .hdr image) or a color".into())
+        }
+        (None, Some(c)) => {
+            if !e.to_world.is_empty() {
+                return Err(
+                    "a uniform environment (color) has no orientation: drop to_world".into(),
+                );
+            }
+            Ok(Environment::Constant {
+                radiance: colour(c, "color")? * scale,
+            })
+        }
+        (Some(file), None) => {
+            let path = dir.join(file);
+            let image = load_environment_image(&path)?;
+            Ok(Environment::Map(EnvironmentMap::new(
+                path, image, scale, to_world,
+            )))
+        }
+    }
+}
+
+/// The line of the k-th entry (a `Name(`) of the list field `field`, if the text shows it.
+fn nth_variant_line(text: &str, field: &str, k: usize) -> Option<usize> {
+    let start = field_line(text, field)?;
+    let offset: usize = text.lines().take(start - 1).map(|l| l.len() + 1).sum();
+    let rest = &text[offset..];
+    let list = &rest[rest.find('[')? + 1..];
+    let mut depth = 0usize;
+    let mut seen = 0usize;
+    for (at, c) in list.char_indices() {
+        match c {
+            '(' => {
+                if depth == 0 {
+                    if seen == k {
+                        let absolute = offset + (rest.len() - list.len()) + at;
+                        return Some(text[..absolute].matches('\n').count() + 1);
+                    }
+                    seen += 1;
+                }
+                depth += 1;
+            }
+            ')' => depth = depth.saturating_sub(1),
+            ']' if depth == 0 => return None,
+            _ => {}
+        }
+    }
+    None
 }
 
 /// The largest `max_depth`: Mitsuba's is an `int`.

@@ -6,8 +6,9 @@ use super::bvh::{Bvh, BvhStats};
 use super::bvh_grid::BvhGrid;
 use super::bvh_octants::{octant, octant_copies};
 use super::file::Scene;
-use super::hull::hull_faces;
+use super::hull::hull_faces_with;
 use super::intersect::{self, Hit, Ray};
+use super::lights::LIGHT_AREA;
 use super::lights::{Light, light_power, scene_lights};
 use super::mesh::Mesh;
 use super::texture::{Texture, textures_bytes};
@@ -335,6 +336,15 @@ pub struct SceneGpu {
     pub grid: BvhGrid,
     /// `lights.len()`: the `scene_light_count` override.
     pub light_count: u32,
+    /// Bit `1 << kind` for each kind of light in `lights` (`lights.rs`): the
+    /// `scene_light_kinds` override, which specialises the shaders to those kinds.
+    pub light_kinds: u32,
+    /// The environment's index in `lights`, if the scene has one: the `scene_environment`
+    /// override (`NO_LIGHT` without).
+    pub environment_light: Option<u32>,
+    /// An environment map's sampling tables (`environment.rs`), after the weights in
+    /// `scene.light_power`; empty without a map.
+    pub environment_table: Vec<f32>,
     /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
     pub has_specular: bool,
     /// Bit `1 << kind` for each material kind a triangle uses: the `scene_material_kinds`
@@ -361,8 +371,17 @@ pub struct SceneGpu {
 impl SceneGpu {
     /// Builds the BVH over `mesh` and lays its data out for the GPU.
     pub fn build(mesh: &Mesh) -> SceneGpu {
+        SceneGpu::build_with_points(mesh, &[])
+    }
+
+    /// As [`SceneGpu::build`], for a scene that also has lights at `light_points`: a hull face
+    /// must have them on its side too, since shadow rays end there.
+    pub fn build_with_points(mesh: &Mesh, light_points: &[Vec3]) -> SceneGpu {
         let vertices: Vec<[Vec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
-        let occluder: Vec<bool> = hull_faces(&vertices).iter().map(|&h| !h).collect();
+        let occluder: Vec<bool> = hull_faces_with(&vertices, light_points)
+            .iter()
+            .map(|&h| !h)
+            .collect();
         let bvh = Bvh::build_with_occluders(&vertices, &occluder);
         let mut triangles: Vec<Triangle> = bvh
             .order
@@ -417,6 +436,13 @@ impl SceneGpu {
         };
         SceneGpu {
             light_count: lights.len() as u32,
+            light_kinds: if lights.is_empty() {
+                0
+            } else {
+                1 << LIGHT_AREA
+            },
+            environment_light: None,
+            environment_table: Vec::new(),
             material_kinds,
             max_depth: DEFAULT_MAX_DEPTH,
             shading,
@@ -489,9 +515,17 @@ impl SceneGpu {
 impl Scene {
     /// The scene's GPU buffers (builds the BVH).
     pub fn to_gpu(&self) -> SceneGpu {
-        SceneGpu {
+        let points: Vec<Vec3> = self
+            .emitters
+            .lights
+            .iter()
+            .filter_map(|l| l.position())
+            .collect();
+        let mut gpu = SceneGpu {
             max_depth: self.max_depth,
-            ..SceneGpu::build(&self.mesh)
-        }
+            ..SceneGpu::build_with_points(&self.mesh, &points)
+        };
+        gpu.add_emitters(&self.emitters);
+        gpu
     }
 }

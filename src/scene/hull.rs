@@ -22,12 +22,19 @@ const TESTS_FIXED: usize = 1 << 20;
 /// tests are exact (Shewchuk's orientation predicate), so rounding never marks a triangle that
 /// some vertex lies strictly beyond.
 pub fn hull_faces(triangles: &[[Vec3; 3]]) -> Vec<bool> {
+    hull_faces_with(triangles, &[])
+}
+
+/// As [`hull_faces`], with `points` (point and spot lights, where shadow rays end) counted among
+/// the scene's vertices.
+pub fn hull_faces_with(triangles: &[[Vec3; 3]], points: &[Vec3]) -> Vec<bool> {
     let usable: Vec<bool> = triangles.iter().map(|t| !is_degenerate(t)).collect();
     let mut points: Vec<robust::Coord3D<f64>> = triangles
         .iter()
         .zip(&usable)
         .filter(|&(_, &u)| u)
         .flat_map(|(t, _)| t.iter().map(|&p| coord(p)))
+        .chain(points.iter().map(|&p| coord(p)))
         .collect();
     // The scene's extreme vertices first: most planes through the inside of the scene have one
     // of them on each side, so most triangles are settled after a few tests.

@@ -11,6 +11,17 @@ use glam::Vec3;
 /// `second` of a light that is one triangle.
 pub const NO_TRIANGLE: u32 = u32::MAX;
 
+/// A light's `material` at or above this is no material but the tag of a light that is not
+/// an area light: `LIGHT_TAG + kind` (`shaders/lib/scene.wgsl` reads it the same way).
+pub const LIGHT_TAG: u32 = 0xffff_fff0;
+/// Light kinds: bit `1 << kind` of the `scene_light_kinds` override.
+pub const LIGHT_AREA: u32 = 0;
+pub const LIGHT_POINT: u32 = 1;
+pub const LIGHT_SPOT: u32 = 2;
+pub const LIGHT_DIRECTIONAL: u32 = 3;
+pub const LIGHT_ENVIRONMENT_MAP: u32 = 4;
+pub const LIGHT_ENVIRONMENT_CONSTANT: u32 = 5;
+
 /// One light as `shaders/lib/scene.wgsl` reads it (three texels): the points p0 + a e1 + b e2
 /// with a, b >= 0 and a + b <= 1 (a triangle) or a, b in [0, 1] (a parallelogram). The front
 /// face, the only one that emits, is the side cross(e1, e2) points to.
@@ -28,13 +39,25 @@ pub struct Light {
 }
 
 impl Light {
-    pub fn is_parallelogram(&self) -> bool {
-        self.second != NO_TRIANGLE
+    /// The light's kind (`LIGHT_AREA`, `LIGHT_POINT`, ...).
+    pub fn kind(&self) -> u32 {
+        if self.material >= LIGHT_TAG {
+            self.material - LIGHT_TAG
+        } else {
+            LIGHT_AREA
+        }
     }
 
-    /// The triangles the light covers.
+    pub fn is_parallelogram(&self) -> bool {
+        self.kind() == LIGHT_AREA && self.second != NO_TRIANGLE
+    }
+
+    /// The triangles the light covers (none but for an area light).
     pub fn triangles(&self) -> impl Iterator<Item = u32> {
-        std::iter::once(self.first).chain((self.second != NO_TRIANGLE).then_some(self.second))
+        let area = self.kind() == LIGHT_AREA;
+        area.then_some(self.first)
+            .into_iter()
+            .chain((area && self.second != NO_TRIANGLE).then_some(self.second))
     }
 
     pub fn area(&self) -> f32 {

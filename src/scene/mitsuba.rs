@@ -6,6 +6,8 @@
 //! `$seed`): `mi.load_file(xml, spp=64, sampler_type="multijitter")`. Each material kind has its
 //! Mitsuba plugin (see [`bsdf_xml`]); Blinn-Phong has none and is an error.
 
+use super::emitters::AnalyticLight;
+use super::environment::{Environment, EnvironmentMap};
 use super::file::Scene;
 use super::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
@@ -48,12 +50,124 @@ pub fn export(scene: &Scene, dir: &Path, options: &ExportOptions) -> Result<Vec<
         written.push(path);
         shape_xml += &shape(scene, *material, file, has_normals, bsdf);
     }
+    let emitters = emitters_xml(scene);
+    if let Some(Environment::Map(map)) = &scene.emitters.environment {
+        let path = dir.join(ENVIRONMENT_FILE);
+        crate::atomic_write::write_atomic(&path, &environment_exr(map)?)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        written.push(path);
+    }
+    shape_xml += &emitters;
     let xml = scene_xml(scene, options, &shape_xml);
     let path = dir.join("scene.xml");
     crate::atomic_write::write_atomic(&path, xml.as_bytes())
         .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     written.push(path);
     Ok(written)
+}
+
+/// The environment image beside `scene.xml`: the texels passgraph loaded, unscaled, as float
+/// OpenEXR, so Mitsuba reads the same numbers whatever the original file's encoding.
+const ENVIRONMENT_FILE: &str = "environment.exr";
+
+fn environment_exr(map: &EnvironmentMap) -> Result<Vec<u8>, String> {
+    let img = &map.image;
+    let data: Vec<f32> = img.texels.iter().flatten().copied().collect();
+    let buffer = image::Rgb32FImage::from_raw(img.width, img.height, data)
+        .ok_or("environment image: texel count does not match its size")?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image::DynamicImage::ImageRgb32F(buffer)
+        .write_to(&mut bytes, image::ImageFormat::OpenExr)
+        .map_err(|e| format!("{}: cannot encode: {e}", map.path.display()))?;
+    Ok(bytes.into_inner())
+}
+
+/// `<point name="position" x=".." .../>` and the like.
+fn point_xml(tag: &str, name: &str, v: Vec3) -> String {
+    format!(
+        "<{tag} name=\"{name}\" x=\"{}\" y=\"{}\" z=\"{}\"/>",
+        v.x, v.y, v.z
+    )
+}
+
+/// The scene's point, spot and directional lights and its environment as Mitsuba emitters (an
+/// environment image is read from [`ENVIRONMENT_FILE`] beside the XML).
+fn emitters_xml(scene: &Scene) -> String {
+    let mut xml = String::new();
+    for light in &scene.emitters.lights {
+        match *light {
+            AnalyticLight::Point {
+                position,
+                intensity,
+            } => {
+                let _ = write!(
+                    xml,
+                    "    <emitter type=\"point\">\n        {}\n        <rgb name=\"intensity\" value=\"{}\"/>\n    </emitter>\n",
+                    point_xml("point", "position", position),
+                    rgb(intensity.into())
+                );
+            }
+            AnalyticLight::Spot {
+                position,
+                target,
+                intensity,
+                cutoff_angle,
+                beam_width,
+            } => {
+                // Any up not along the axis: the profile is symmetric about it.
+                let axis = (target - position).normalize();
+                let up = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+                let _ = write!(
+                    xml,
+                    "    <emitter type=\"spot\">\n        <transform name=\"to_world\">\n            <lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>\n        </transform>\n        <rgb name=\"intensity\" value=\"{}\"/>\n        <float name=\"cutoff_angle\" value=\"{cutoff_angle}\"/>\n        <float name=\"beam_width\" value=\"{beam_width}\"/>\n    </emitter>\n",
+                    rgb(position.into()),
+                    rgb(target.into()),
+                    rgb(up.into()),
+                    rgb(intensity.into())
+                );
+            }
+            AnalyticLight::Directional {
+                direction,
+                irradiance,
+            } => {
+                let _ = write!(
+                    xml,
+                    "    <emitter type=\"directional\">\n        {}\n        <rgb name=\"irradiance\" value=\"{}\"/>\n    </emitter>\n",
+                    point_xml("vector", "direction", direction),
+                    rgb(irradiance.into())
+                );
+            }
+        }
+    }
+    match &scene.emitters.environment {
+        None => {}
+        Some(Environment::Constant { radiance }) => {
+            let _ = write!(
+                xml,
+                "    <emitter type=\"constant\">\n        <rgb name=\"radiance\" value=\"{}\"/>\n    </emitter>\n",
+                rgb((*radiance).into())
+            );
+        }
+        Some(Environment::Map(map)) => {
+            let m = map.to_world;
+            let matrix: Vec<String> = (0..4)
+                .flat_map(|r| {
+                    (0..4).map(move |c| match (r, c) {
+                        (3, 3) => "1".to_string(),
+                        (3, _) | (_, 3) => "0".to_string(),
+                        _ => m.col(c)[r].to_string(),
+                    })
+                })
+                .collect();
+            let _ = write!(
+                xml,
+                "    <emitter type=\"envmap\">\n        <string name=\"filename\" value=\"{ENVIRONMENT_FILE}\"/>\n        <float name=\"scale\" value=\"{}\"/>\n        <transform name=\"to_world\">\n            <matrix value=\"{}\"/>\n        </transform>\n    </emitter>\n",
+                map.scale,
+                matrix.join(" ")
+            );
+        }
+    }
+    xml
 }
 
 /// The triangles of each used material, in file order, by material index.

@@ -6,9 +6,13 @@ use super::file::Scene;
 use super::intersect::Ray;
 use std::collections::BTreeMap;
 
+/// The region of pixels that see no surface, only the environment.
+pub const ENVIRONMENT_REGION: &str = "(environment)";
+
 /// Pixel indices (y * width + x, row 0 at the top) by material name: a pixel counts when a
 /// 3 x 3 grid of rays across its footprint (the CPU twin of the BVH) all hit triangles of that
-/// one material, so edges, where a pixel mixes materials, are left out.
+/// one material, so edges, where a pixel mixes materials, are left out. Pixels whose rays all
+/// leave the scene are under [`ENVIRONMENT_REGION`].
 pub fn material_regions(scene: &Scene, width: u32, height: u32) -> BTreeMap<String, Vec<usize>> {
     let gpu = scene.to_gpu();
     let camera = scene.camera.to_gpu(width, height);
@@ -34,13 +38,15 @@ pub fn material_regions(scene: &Scene, width: u32, height: u32) -> BTreeMap<Stri
                     }
                 }
             }
-            if let (true, Some(Some(m))) = (uniform, material) {
-                let name = scene.mesh.material_names[m as usize].clone();
-                regions
-                    .entry(name)
-                    .or_default()
-                    .push((y * width + x) as usize);
-            }
+            let name = match (uniform, material) {
+                (true, Some(Some(m))) => scene.mesh.material_names[m as usize].clone(),
+                (true, Some(None)) => ENVIRONMENT_REGION.to_string(),
+                _ => continue,
+            };
+            regions
+                .entry(name)
+                .or_default()
+                .push((y * width + x) as usize);
         }
     }
     regions

@@ -1,0 +1,71 @@
+// Point, spot and directional lights (src/scene/emitters.rs), as Mitsuba 3's `point`, `spot`
+// and `directional`: delta lights, which only next-event estimation reaches. Their records in
+// scene.lights (tagged LIGHT_TAG + kind in `material`, lib/scene.wgsl):
+//   point:       p0 position, e1 intensity
+//   spot:        p0 position, e1 intensity, e2 unit axis, second / first the cutoff angle / the
+//                beam width in radians (bit patterns)
+//   directional: e1 irradiance, e2 the unit direction the light travels
+// The includer includes scene.wgsl.
+#include "sampling.wgsl"
+
+// A light sample of any kind but an area light (lib/light_sample.wgsl has those).
+struct EmitterSample {
+    // Unit direction from the shading point toward the light.
+    wi: vec3<f32>,
+    // What multiplies f cos: radiance over the solid-angle density, or for a delta light
+    // I / d^2 (point, spot) or E (directional).
+    value: vec3<f32>,
+    // The solid-angle density of wi; 0 for a delta light (MIS leaves it alone).
+    pdf: f32,
+    // The shadow ray: to the point `end` (t < 1) or, for an infinite light, along wi forever.
+    end: vec3<f32>,
+    infinite: bool,
+}
+
+// Mitsuba's spot profile along the unit direction d leaving the light: 1 within the beam
+// width, falling linearly in angle to 0 at the cutoff.
+fn spot_falloff(light: Light, d: vec3<f32>) -> f32 {
+    let cos_theta = dot(light.e2, d);
+    let cutoff = bitcast<f32>(light.second);
+    let beam = bitcast<f32>(light.first);
+    if cos_theta <= cos(cutoff) {
+        return 0.0;
+    }
+    if cos_theta >= cos(beam) {
+        return 1.0;
+    }
+    return (cutoff - acos(cos_theta)) / (cutoff - beam);
+}
+
+// The sample of a point, spot or directional light from `origin`.
+fn sample_delta_light(light: Light, kind: u32, origin: vec3<f32>) -> EmitterSample {
+    if scene_has_light_kind(LIGHT_DIRECTIONAL) && kind == LIGHT_DIRECTIONAL {
+        return EmitterSample(-light.e2, light.e1, 0.0, vec3<f32>(0.0), true);
+    }
+    let to = light.p0 - origin;
+    let d2 = dot(to, to);
+    let wi = to * inverseSqrt(d2);
+    var value = light.e1 / d2;
+    if scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT {
+        value *= spot_falloff(light, -wi);
+    }
+    return EmitterSample(wi, value, 0.0, light.p0, false);
+}
+
+// Light selection's weight (lib/light_select.wgsl) of a point, spot or directional light
+// whose table weight is w (its intensity's or irradiance's luminance): the irradiance it could
+// give, 0 exactly where it gives none (behind the tangent plane, outside a spot's cone).
+fn delta_light_weight(light: Light, kind: u32, origin: vec3<f32>, n: vec3<f32>, w: f32) -> f32 {
+    if scene_has_light_kind(LIGHT_DIRECTIONAL) && kind == LIGHT_DIRECTIONAL {
+        return select(0.0, w, dot(n, light.e2) < 0.0);
+    }
+    let to = light.p0 - origin;
+    let d2 = dot(to, to);
+    if dot(n, to) <= 0.0 || d2 <= 0.0 {
+        return 0.0;
+    }
+    if scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT && spot_falloff(light, -to * inverseSqrt(d2)) <= 0.0 {
+        return 0.0;
+    }
+    return w / d2;
+}

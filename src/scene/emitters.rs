@@ -1,0 +1,186 @@
+//! Lights that are not emissive triangles: point, spot and directional lights (Mitsuba 3's
+//! `point`, `spot`, `directional`) and the environment (`constant`, `envmap`), and how they join
+//! the scene's light list. Every emitter is one entry of `scene.lights` with its selection
+//! weight in `scene.light_power`, after the area lights, so light selection and next-event
+//! estimation cover them all; the environment's sampling tables follow the weights.
+
+use super::environment::Environment;
+use super::gpu::SceneGpu;
+use super::lights::{
+    LIGHT_AREA, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT_CONSTANT, LIGHT_ENVIRONMENT_MAP, LIGHT_POINT,
+    LIGHT_SPOT, LIGHT_TAG, Light,
+};
+use super::texture::{LUMINANCE, Texture};
+use glam::Vec3;
+
+/// A delta light, as the scene file describes it (validated by the loader).
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnalyticLight {
+    /// Radiant intensity `intensity` (W/sr per channel) in every direction from `position`.
+    Point { position: Vec3, intensity: Vec3 },
+    /// Mitsuba's spot: `intensity` along the axis toward `target`, full out to `beam_width`
+    /// degrees off it, falling linearly in angle to 0 at `cutoff_angle`.
+    Spot {
+        position: Vec3,
+        target: Vec3,
+        intensity: Vec3,
+        cutoff_angle: f32,
+        beam_width: f32,
+    },
+    /// Irradiance `irradiance` on surfaces facing it, arriving along `direction` (the way the
+    /// light travels, unit length).
+    Directional { direction: Vec3, irradiance: Vec3 },
+}
+
+/// What a scene adds to its emissive triangles.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Emitters {
+    pub lights: Vec<AnalyticLight>,
+    pub environment: Option<Environment>,
+}
+
+fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::from(LUMINANCE))
+}
+
+fn record(kind: u32, p0: Vec3, e1: Vec3, e2: Vec3, second: u32, first: u32) -> Light {
+    Light {
+        p0: p0.into(),
+        material: LIGHT_TAG + kind,
+        e1: e1.into(),
+        second,
+        e2: e2.into(),
+        first,
+    }
+}
+
+impl AnalyticLight {
+    /// Where the light is, for a light at a point of the scene.
+    pub fn position(&self) -> Option<Vec3> {
+        match *self {
+            AnalyticLight::Point { position, .. } | AnalyticLight::Spot { position, .. } => {
+                Some(position)
+            }
+            AnalyticLight::Directional { .. } => None,
+        }
+    }
+
+    /// The `scene.lights` record (see `Light` in shaders/lib/scene.wgsl) and the selection
+    /// weight: an estimate of the irradiance it gives, as an area light's power / d^2 is (the
+    /// shader divides point and spot weights by d^2).
+    fn gpu(&self) -> (Light, f32) {
+        match *self {
+            AnalyticLight::Point {
+                position,
+                intensity,
+            } => (
+                record(LIGHT_POINT, position, intensity, Vec3::ZERO, 0, 0),
+                luminance(intensity),
+            ),
+            AnalyticLight::Spot {
+                position,
+                target,
+                intensity,
+                cutoff_angle,
+                beam_width,
+            } => (
+                record(
+                    LIGHT_SPOT,
+                    position,
+                    intensity,
+                    (target - position).normalize(),
+                    cutoff_angle.to_radians().to_bits(),
+                    beam_width.to_radians().to_bits(),
+                ),
+                luminance(intensity),
+            ),
+            AnalyticLight::Directional {
+                direction,
+                irradiance,
+            } => (
+                record(LIGHT_DIRECTIONAL, Vec3::ZERO, irradiance, direction, 0, 0),
+                luminance(irradiance),
+            ),
+        }
+    }
+}
+
+impl SceneGpu {
+    /// Appends the analytic lights, then the environment, to the light list; the environment
+    /// image joins the textures and its tables the weights.
+    pub fn add_emitters(&mut self, emitters: &Emitters) {
+        for light in &emitters.lights {
+            let (record, weight) = light.gpu();
+            self.lights.push(record);
+            self.light_power.push(weight);
+        }
+        match &emitters.environment {
+            None => {}
+            Some(Environment::Constant { radiance }) => {
+                self.environment_light = Some(self.lights.len() as u32);
+                let r = *radiance;
+                self.lights.push(record(
+                    LIGHT_ENVIRONMENT_CONSTANT,
+                    Vec3::ZERO,
+                    r,
+                    Vec3::ZERO,
+                    0,
+                    0,
+                ));
+                // A uniform environment's irradiance on any surface: pi L.
+                self.light_power.push(std::f32::consts::PI * luminance(r));
+            }
+            Some(Environment::Map(map)) => {
+                self.environment_light = Some(self.lights.len() as u32);
+                // World to local: the rows of the rotation's transpose.
+                let local = map.to_world.transpose();
+                let texture = self.textures.len() as u32;
+                let (w, h) = (map.image.width as usize, map.image.height as usize);
+                // Mitsuba's layout: one more column, a copy of the first (the image wraps).
+                let mut texels = Vec::with_capacity((w + 1) * h);
+                for row in map.image.texels.chunks(w) {
+                    for t in row.iter().chain(std::iter::once(&row[0])) {
+                        let c = Vec3::from(*t) * map.scale;
+                        texels.push([c.x, c.y, c.z, 0.0]);
+                    }
+                }
+                self.textures
+                    .push(Texture::from_texels(w as u32 + 1, h as u32, texels));
+                self.lights.push(record(
+                    LIGHT_ENVIRONMENT_MAP,
+                    local.row(0),
+                    local.row(1),
+                    local.row(2),
+                    texture,
+                    0, // the table's offset, set below
+                ));
+                self.light_power
+                    .push(std::f32::consts::PI * map.distribution.mean_luminance);
+                self.environment_table = map.distribution.gpu_table();
+            }
+        }
+        if !self.environment_table.is_empty() {
+            // The table starts at the next texel boundary after the weights.
+            let offset = self.light_power.len().div_ceil(4) * 4;
+            let env = self.environment_light.expect("a table belongs to a map") as usize;
+            self.lights[env].first = offset as u32;
+        }
+        self.light_count = self.lights.len() as u32;
+        self.light_kinds = self.lights.iter().fold(0, |k, l| k | 1 << l.kind());
+    }
+
+    /// The `scene.light_power` buffer: each light's selection weight, then (from the next
+    /// multiple of 4) the environment map's sampling tables; one zero texel when empty.
+    pub fn light_power_bytes(&self) -> Vec<u8> {
+        let mut values = self.light_power.clone();
+        if !self.environment_table.is_empty() {
+            values.resize(values.len().div_ceil(4) * 4, 0.0);
+            values.extend_from_slice(&self.environment_table);
+        }
+        values.resize(values.len().max(1).div_ceil(4) * 4, 0.0);
+        bytemuck::cast_slice(&values).to_vec()
+    }
+}
+
+/// Bit `1 << LIGHT_AREA` alone: a scene lit by its emissive triangles only.
+pub const AREA_LIGHTS_ONLY: u32 = 1 << LIGHT_AREA;
