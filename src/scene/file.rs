@@ -165,7 +165,10 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let file: SceneFile = ron::from_str(&text).map_err(|e| SceneError::Ron {
+    // Optional fields are written bare (`environment: Environment(...)`), not as `Some(...)`.
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let file: SceneFile = options.from_str(&text).map_err(|e| SceneError::Ron {
         path: path.to_path_buf(),
         line: e.span.start.line,
         col: e.span.start.col,
