@@ -3,7 +3,8 @@
 //! same direct and indirect light, block by block, within five standard errors of their
 //! difference: on tests/data/mis_glossy (a rough gold floor under two area lights, whose glossy
 //! reflections fill the view, so both strategies matter at every pixel) and on the materials
-//! showcase (rough conductor, rough plastic, glass, a textured floor). Each strategy alone drops a different set of paths if a weight is wrong (a
+//! showcase (rough conductor, rough plastic, glass, a textured floor), and on a rough gold
+//! sphere under an environment map and a point light (tests/data/mis_environment). Each strategy alone drops a different set of paths if a weight is wrong (a
 //! missing pdf factor, a light pdf that ignores light selection, a delta lobe counted twice),
 //! so any such error separates them. Run on the GPU (lavapipe in CI).
 
@@ -29,49 +30,57 @@ fn block_means(img: &RgbImage) -> Vec<f64> {
     sums.iter().map(|s| s / (3 * side * side) as f64).collect()
 }
 
-/// Per block: the mean over seeds of a channel and the standard error of that mean.
-fn estimate(
-    scene: &str,
-    graph: &str,
-    strategy: u32,
-    channel: &str,
-    extra: &[&str],
-) -> Vec<(f64, f64)> {
+/// Per channel, per block: the mean over seeds and the standard error of that mean. One
+/// session per seed gives every channel.
+fn estimate(scene: &str, graph: &str, strategy: u32, extra: &[&str]) -> Vec<Vec<(f64, f64)>> {
     let set = format!("path.mis_strategy={strategy}");
-    let mut per_seed: Vec<Vec<f64>> = Vec::new();
+    let mut per_seed: Vec<Vec<Vec<f64>>> = Vec::new();
     for seed in 0..SEEDS {
         let mut sets = vec![set.as_str()];
         sets.extend_from_slice(extra);
         let s = settings(graph, scene, SIZE, seed, &sets);
-        per_seed.push(block_means(&image(&render(&s, FRAMES), channel)));
+        let session = render(&s, FRAMES);
+        per_seed.push(
+            CHANNELS
+                .iter()
+                .map(|c| block_means(&image(&session, c)))
+                .collect(),
+        );
     }
     let n = f64::from(SEEDS);
-    (0..(BLOCKS * BLOCKS) as usize)
-        .map(|b| {
-            let mean = per_seed.iter().map(|m| m[b]).sum::<f64>() / n;
-            let var = per_seed.iter().map(|m| (m[b] - mean).powi(2)).sum::<f64>() / (n - 1.0);
-            (mean, (var / n).sqrt())
+    (0..CHANNELS.len())
+        .map(|c| {
+            (0..(BLOCKS * BLOCKS) as usize)
+                .map(|b| {
+                    let mean = per_seed.iter().map(|m| m[c][b]).sum::<f64>() / n;
+                    let var =
+                        per_seed.iter().map(|m| (m[c][b] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                    (mean, (var / n).sqrt())
+                })
+                .collect()
         })
         .collect()
 }
+
+const CHANNELS: [&str; 2] = ["direct", "indirect"];
 
 /// Asserts every block of every strategy agrees with the combination within five standard
 /// errors of the difference (a false failure about once in 1.7 million per comparison; 48
 /// comparisons per channel).
 fn assert_strategies_agree(scene: &str, graph: &str, extra: &[&str]) {
-    for channel in ["direct", "indirect"] {
-        let both = estimate(scene, graph, 0, channel, extra);
-        for strategy in [1, 2] {
-            let alone = estimate(scene, graph, strategy, channel, extra);
-            for (b, (a, c)) in alone.iter().zip(&both).enumerate() {
-                let bound = 5.0 * (a.1 * a.1 + c.1 * c.1).sqrt();
+    let both = estimate(scene, graph, 0, extra);
+    for strategy in [1, 2] {
+        let alone = estimate(scene, graph, strategy, extra);
+        for (c, channel) in CHANNELS.iter().enumerate() {
+            for (b, (a, m)) in alone[c].iter().zip(&both[c]).enumerate() {
+                let bound = 5.0 * (a.1 * a.1 + m.1 * m.1).sqrt();
                 assert!(
-                    (a.0 - c.0).abs() <= bound,
+                    (a.0 - m.0).abs() <= bound,
                     "{scene} {graph} {channel} block {b}: strategy {strategy} gives {} (se {}), MIS {} (se {}), bound {bound}",
                     a.0,
                     a.1,
-                    c.0,
-                    c.1
+                    m.0,
+                    m.1
                 );
             }
         }
@@ -89,6 +98,20 @@ fn light_sampling_bsdf_sampling_and_mis_agree_on_glossy_reflections_of_lights() 
 #[test]
 fn the_strategies_agree_under_light_selection() {
     assert_strategies_agree(GLOSSY, FUSED, &["path.light_selection=true"]);
+}
+
+/// A rough gold sphere under an environment map and a point light (scripts/make-lights-scenes):
+/// environment rays that miss the scene are weighted against the environment's own sampling.
+const ENVIRONMENT: &str = "tests/data/mis_environment/scene.ron";
+
+#[test]
+fn the_strategies_agree_on_a_glossy_sphere_under_an_environment_map() {
+    assert_strategies_agree(ENVIRONMENT, FUSED, &[]);
+}
+
+#[test]
+fn the_strategies_agree_under_an_environment_map_with_light_selection() {
+    assert_strategies_agree(ENVIRONMENT, FUSED, &["path.light_selection=true"]);
 }
 
 #[test]

@@ -4,7 +4,8 @@
 
 // A pass param: 0 both strategies weighted by the power heuristic, 1 light sampling alone,
 // 2 BSDF sampling alone (each alone is unbiased too: tests/materials_mis.rs compares them).
-// Delta lobes (mirrors, smooth glass) are always BSDF-sampled: no light sample can find them.
+// Delta lobes (mirrors, smooth glass) are always BSDF-sampled: no light sample can find them;
+// delta lights (point, spot, directional) are always light-sampled: no BSDF sample can.
 override mis_strategy: u32 = 0u;
 
 const MIS_BOTH: u32 = 0u;

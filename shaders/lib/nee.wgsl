@@ -12,7 +12,9 @@ override light_selection: bool = false;
 // Light reaching p from the emitters by light sampling, toward wo. `dim_select` and `dim_light`
 // are the sampler pairs (sampler.wgsl) of the light choice and of the point on the light.
 fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
-    if !mis_uses_light() || bsdf_is_delta(p.b) {
+    // Without light sampling only delta lights are sampled (light_contribution skips others).
+    let delta_lights = scene_has_light_kind(LIGHT_POINT) || scene_has_light_kind(LIGHT_SPOT) || scene_has_light_kind(LIGHT_DIRECTIONAL);
+    if (!mis_uses_light() && !delta_lights) || bsdf_is_delta(p.b) {
         return vec3<f32>(0.0);
     }
     if light_selection {
@@ -26,6 +28,10 @@ fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select
 fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>, pmf: f32) -> vec3<f32> {
     let light = scene_light(lights, i);
     let kind = light_kind(light);
+    let delta = kind == LIGHT_POINT || kind == LIGHT_SPOT || kind == LIGHT_DIRECTIONAL;
+    if !mis_uses_light() && !delta {
+        return vec3<f32>(0.0);
+    }
     if kind != LIGHT_AREA {
         return emitter_contribution(p, wo, origin, light, kind, u, pmf);
     }
