@@ -7,6 +7,7 @@ pub mod bvh;
 pub mod bvh_grid;
 pub mod bvh_octants;
 pub mod camera;
+pub mod environment_image;
 pub mod error;
 pub mod file;
 pub mod gpu;
