@@ -26,6 +26,11 @@
 //!   Debian's blender-data: up to 5053 of 524288 texels, down to -0.0039); clamp such a file to 0
 //!   once (as scripts/make-test-hdris does) to use it.
 //!
+//! # Memory
+//! Both readers decode straight into the one texel buffer (12 bytes a texel): an 8192x4096 ZIP
+//! float32 EXR loads in 1.7 s (release) with a peak resident size of 400 MB, of which 384 MiB
+//! are the texels.
+//!
 //! # OpenEXR compressions
 //! The `exr` crate (1.74) decodes none, RLE, ZIPS, ZIP, PIZ, PXR24, B44, B44A, DWAA and DWAB
 //! (its DWA decoder is a port of OpenEXRCore's: bitwise OpenEXR 3.5.3's decoding on the test
