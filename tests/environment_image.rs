@@ -3,6 +3,7 @@
 //! scripts/envmap-mitsuba-table), the readers against Mitsuba's and OpenEXR's own decoding, the
 //! test HDRIs (scripts/make-test-hdris), and each bad input's message.
 
+use exr::prelude::WritableImage;
 use glam::{Mat3, Vec3};
 use passgraph::scene::environment_image::{EnvironmentImage, load_environment_image};
 use std::path::{Path, PathBuf};
@@ -264,6 +265,16 @@ fn unreadable_files_are_refused_naming_the_file() {
     let text = dir.path().join("sky.exr");
     std::fs::write(&text, "not an image\n").unwrap();
     refused(&text, &["not an OpenEXR (.exr) or Radiance (.hdr) image"]);
+    // Neither colour nor luminance.
+    let depth = dir.path().join("depth.exr");
+    let channels = exr::prelude::SpecificChannels::build()
+        .with_channel("Z")
+        .with_pixel_fn(|_| (0.5f32,));
+    exr::prelude::Image::from_channels((4, 3), channels)
+        .write()
+        .to_file(&depth)
+        .unwrap();
+    refused(&depth, &["channels [Z]", "needs R, G and B"]);
     for name in [
         "sunrise-64x32.exr",
         "sunrise-64x32-dwab-float.exr",
