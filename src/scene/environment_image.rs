@@ -136,7 +136,8 @@ impl EnvironmentImage {
         let (fx, fy) = (x - px as f32, y - py as f32);
         // Column w is the periodic padding: column 0.
         let next = if px + 1 == w { 0 } else { px + 1 };
-        let texel = |cx: u32, cy: u32| Vec3::from(self.texels[(cy * w + cx) as usize]);
+        let texel =
+            |cx: u32, cy: u32| Vec3::from(self.texels[cy as usize * w as usize + cx as usize]);
         let row = |cy: u32| texel(px, cy) * (1.0 - fx) + texel(next, cy) * fx;
         row(py) * (1.0 - fy) + row(py + 1) * fy
     }
