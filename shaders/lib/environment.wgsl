@@ -19,11 +19,12 @@ fn environment_is_map(env: Light) -> bool {
 }
 
 // The map's image coordinates of the world direction d: Mitsuba's uv, u shifted by half a
-// texel and both wrapped into [0, 1) (so straight down wraps to the top row, as there).
+// texel and wrapped into [0, 1); t at most 1, so straight down reads the bottom row, as
+// Mitsuba does (its acos(-1) / pi stays just below 1; src/scene/environment_image.rs).
 fn environment_uv(env: Light, d: vec3<f32>, columns: f32) -> vec2<f32> {
     let v = vec3<f32>(dot(env.p0, d), dot(env.e1, d), dot(env.e2, d));
-    let uv = vec2<f32>(atan2(v.x, -v.z) * (0.5 / PI) - 0.5 / columns, acos(clamp(v.y, -1.0, 1.0)) / PI);
-    return uv - floor(uv);
+    let u = atan2(v.x, -v.z) * (0.5 / PI) - 0.5 / columns;
+    return vec2<f32>(u - floor(u), min(acos(clamp(v.y, -1.0, 1.0)) / PI, 1.0));
 }
 
 fn environment_texel(i: u32) -> vec3<f32> {
