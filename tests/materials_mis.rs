@@ -53,8 +53,11 @@ fn estimate(scene: &str, graph: &str, strategy: u32, extra: &[&str]) -> Vec<Vec<
             (0..(BLOCKS * BLOCKS) as usize)
                 .map(|b| {
                     let mean = per_seed.iter().map(|m| m[c][b]).sum::<f64>() / n;
-                    let var =
-                        per_seed.iter().map(|m| (m[c][b] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                    let var = per_seed
+                        .iter()
+                        .map(|m| (m[c][b] - mean).powi(2))
+                        .sum::<f64>()
+                        / (n - 1.0);
                     (mean, (var / n).sqrt())
                 })
                 .collect()
