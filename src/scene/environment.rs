@@ -272,4 +272,70 @@ mod tests {
         // The midpoint rule over sin theta: within 0.1 % at 32 rows.
         assert!((mean - 1.0).abs() < 1e-3, "{mean}");
     }
+
+    /// Pearson's chi-square of `sample`'s directions against `pdf`, on a 16 x 8 grid of equal
+    /// solid angle (azimuth x cos theta), the expected count of each bin integrated from the
+    /// pdf on a 48 x 48 sub-grid (fine enough for the sun cells' edges). Bins expecting fewer than 5 samples are pooled. The threshold
+    /// is the chi-square quantile at p = 1e-6 (Wilson-Hilferty): a correct sampler fails once
+    /// in a million runs, a density off by a few percent anywhere fails at once.
+    #[test]
+    fn chi_square_of_the_sampled_directions_against_the_pdf() {
+        // A dim sky with a bright small sun, under a rotation: what the sampler is for.
+        let img = image(32, 17, |x, y| {
+            let sun = if (10..12).contains(&x) && (5..7).contains(&y) { 400.0 } else { 0.0 };
+            [0.2 + 0.05 * y as f32 + sun, 0.3 + sun, 0.5 + 0.01 * x as f32 + sun]
+        });
+        let rotation = Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
+        let m = EnvironmentMap::new(PathBuf::new(), img, 1.0, rotation);
+        let (nphi, ncos, sub) = (16usize, 8usize, 48usize);
+        let bin = |d: Vec3| {
+            let phi = d.z.atan2(d.x).rem_euclid(2.0 * PI);
+            let i = ((phi / (2.0 * PI) * nphi as f32) as usize).min(nphi - 1);
+            let j = (((d.y + 1.0) / 2.0 * ncos as f32) as usize).min(ncos - 1);
+            j * nphi + i
+        };
+        let n = 400_000usize;
+        let mut observed = vec![0f64; nphi * ncos];
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 40) as f32) / (1u64 << 24) as f32
+        };
+        for _ in 0..n {
+            let (d, pdf) = m.sample(Vec2::new(next(), next()));
+            assert!(pdf > 0.0);
+            observed[bin(d)] += 1.0;
+        }
+        let mut expected = vec![0f64; nphi * ncos];
+        let cell = 4.0 * std::f64::consts::PI / (nphi * ncos * sub * sub) as f64;
+        for j in 0..ncos * sub {
+            let z = -1.0 + (j as f32 + 0.5) * 2.0 / (ncos * sub) as f32;
+            let r = (1.0 - z * z).sqrt();
+            for i in 0..nphi * sub {
+                let phi = (i as f32 + 0.5) * 2.0 * PI / (nphi * sub) as f32;
+                let d = Vec3::new(r * phi.cos(), z, r * phi.sin());
+                expected[bin(d)] += f64::from(m.pdf(d)) * cell * n as f64;
+            }
+        }
+        let (mut chi2, mut dof, mut pool_o, mut pool_e) = (0.0, 0usize, 0.0, 0.0);
+        for (o, e) in observed.iter().zip(&expected) {
+            if *e < 5.0 {
+                pool_o += o;
+                pool_e += e;
+            } else {
+                chi2 += (o - e).powi(2) / e;
+                dof += 1;
+            }
+        }
+        if pool_e > 0.0 {
+            chi2 += (pool_o - pool_e).powi(2) / pool_e.max(1e-9);
+            dof += 1;
+        }
+        let k = (dof - 1) as f64;
+        let z = 4.753_424; // the standard normal's 1 - 1e-6 quantile
+        let threshold = k * (1.0 - 2.0 / (9.0 * k) + z * (2.0 / (9.0 * k)).sqrt()).powi(3);
+        assert!(chi2 < threshold, "chi-square {chi2} over {k} dof, threshold {threshold}");
+    }
 }

@@ -455,7 +455,71 @@ mod tests {
             },
             camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),
             max_depth: 3,
+            emitters: Default::default(),
         }
+    }
+
+    #[test]
+    fn lights_and_the_environment_become_mitsuba_emitters() {
+        use crate::scene::emitters::{AnalyticLight, Emitters};
+        use crate::scene::environment::{Environment, EnvironmentMap};
+        use crate::scene::environment_image::EnvironmentImage;
+        let mut s = scene(vec![Material::diffuse([0.5; 3])]);
+        let image = EnvironmentImage::from_texels(2, 3, vec![[1.0; 3]; 6]).unwrap();
+        s.emitters = Emitters {
+            lights: vec![
+                AnalyticLight::Point {
+                    position: Vec3::new(1.0, 2.0, 3.0),
+                    intensity: Vec3::splat(4.0),
+                },
+                AnalyticLight::Spot {
+                    position: Vec3::ZERO,
+                    target: Vec3::new(0.0, -1.0, 0.0),
+                    intensity: Vec3::ONE,
+                    cutoff_angle: 30.0,
+                    beam_width: 10.0,
+                },
+                AnalyticLight::Directional {
+                    direction: Vec3::new(0.0, -1.0, 0.0),
+                    irradiance: Vec3::splat(2.0),
+                },
+            ],
+            environment: Some(Environment::Map(EnvironmentMap::new(
+                "sky.exr".into(),
+                image,
+                2.5,
+                glam::Mat3::from_rotation_y(std::f32::consts::FRAC_PI_2),
+            ))),
+        };
+        let xml = emitters_xml(&s);
+        assert_has(
+            &xml,
+            &[
+                "<emitter type=\"point\">",
+                "<point name=\"position\" x=\"1\" y=\"2\" z=\"3\"/>",
+                "<rgb name=\"intensity\" value=\"4, 4, 4\"/>",
+                "<emitter type=\"spot\">",
+                "<lookat origin=\"0, 0, 0\" target=\"0, -1, 0\" up=\"1, 0, 0\"/>",
+                "<float name=\"cutoff_angle\" value=\"30\"/>",
+                "<float name=\"beam_width\" value=\"10\"/>",
+                "<emitter type=\"directional\">",
+                "<vector name=\"direction\" x=\"0\" y=\"-1\" z=\"0\"/>",
+                "<emitter type=\"envmap\">",
+                "<float name=\"scale\" value=\"2.5\"/>",
+            ],
+        );
+        // The rotation, row by row: +90 degrees about y takes +z to +x.
+        let matrix = xml.split("<matrix value=\"").nth(1).unwrap();
+        let values: Vec<f32> = matrix
+            .split('"')
+            .next()
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!((values[2] - 1.0).abs() < 1e-6, "{values:?}");
+        assert!((values[8] + 1.0).abs() < 1e-6, "{values:?}");
+        assert_eq!(values[15], 1.0);
     }
 
     fn bsdf(m: Material) -> Result<String, String> {
