@@ -98,7 +98,7 @@ enum CameraFile {
         /// Field of view in degrees along `fov_axis`.
         #[serde(default, deserialize_with = "some_number")]
         fov: Option<Number>,
-        #[serde(default)]
+        #[serde(default, deserialize_with = "some_axis")]
         fov_axis: Option<FovAxisFile>,
         #[serde(default, deserialize_with = "some_number")]
         aperture_radius: Option<Number>,
@@ -126,6 +126,11 @@ enum FovAxisFile {
 /// An optional field written as a plain number (`fov: 40`, not `fov: Some(40)`).
 fn some_number<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<Number>, D::Error> {
     Number::deserialize(deserializer).map(Some)
+}
+
+/// `fov_axis: X`, not `fov_axis: Some(X)`.
+fn some_axis<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<FovAxisFile>, D::Error> {
+    FovAxisFile::deserialize(deserializer).map(Some)
 }
 
 impl CameraFile {

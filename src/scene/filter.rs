@@ -104,7 +104,9 @@ impl PixelFilter {
         match self {
             PixelFilter::Box => (x + 0.5).clamp(0.0, 1.0),
             PixelFilter::Gaussian { stddev } => {
-                gaussian_integral(f64::from(stddev), x) / gaussian_integral(f64::from(stddev), r)
+                // The integral from the centre is odd: half of it from -r to the centre.
+                let s = f64::from(stddev);
+                0.5 + 0.5 * gaussian_integral(s, x) / gaussian_integral(s, r)
             }
             PixelFilter::Tent { radius } => {
                 let t = 1.0 - x.abs() / f64::from(radius);
