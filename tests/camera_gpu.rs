@@ -55,9 +55,15 @@ fn half_plane(z: f32) -> Vec<([f32; 4], f32)> {
 }
 
 fn render_l0(graph: &str, scene: &Path, size: [u32; 2], frames: u32) -> RgbImage {
+    render_l0_set(graph, scene, size, frames, &[])
+}
+
+/// As [`render_l0`], with graph params set (`INSTANCE.PARAM=VALUE`).
+fn render_l0_set(graph: &str, scene: &Path, size: [u32; 2], frames: u32, set: &[&str]) -> RgbImage {
     let s = RenderSettings {
         size,
         seed: 7,
+        set: set.iter().map(|s| s.to_string()).collect(),
         ..RenderSettings::new(root().join(graph), scene)
     };
     image(&render(&s, frames), "l0")
@@ -188,6 +194,23 @@ fn thin_lens_keeps_the_focus_plane_sharp_and_blurs_by_the_circle_of_confusion() 
                 / n as f64
         });
     }
+    // The raster graph shares one film offset per frame across the image, so its rows are
+    // independent only at the pixel centre (jitter off): there column x sees the emitter with
+    // probability F((W/2 - x - 1/2) / b), drawn from each pixel's own lens samples.
+    let jitter_off = [
+        "visibility.pixel_jitter=false",
+        "primary.pixel_jitter=false",
+    ];
+    let img = render_l0_set(
+        RASTER,
+        &blurred.path().join("scene.ron"),
+        [W, H],
+        FRAMES,
+        &jitter_off,
+    );
+    assert_columns("defocused, raster", &img, |x| {
+        disk_cdf((f64::from(W / 2) - x as f64 - 0.5) / b)
+    });
 }
 
 #[test]
@@ -222,5 +245,30 @@ fn orthographic_quads_cover_their_world_size_at_any_depth() {
                 );
             }
         }
+    }
+}
+
+#[test]
+fn raster_graph_jitters_the_frame_by_the_filter() {
+    // One film offset per frame for the whole image (lib/frame_jitter.wgsl): every pixel of a
+    // column sees the emitter in the same frames, so a column's mean is the fraction of F
+    // frames whose offset lands on it, a Bernoulli mean with standard error sqrt(p (1 - p) / F)
+    // (an upper bound: the frames' offsets are stratified).
+    let filter = PixelFilter::Gaussian { stddev: 0.5 };
+    let dir = scene(
+        &half_plane(-10.0),
+        &format!("{CAMERA})"),
+        "    filter: Gaussian(stddev: 0.5),\n",
+    );
+    let frames = 512;
+    let img = render_l0(RASTER, &dir.path().join("scene.ron"), [W, 8], frames);
+    for (x, (mean, _)) in column_means(&img).into_iter().enumerate() {
+        let p = filter.cdf(-(x as f64 + 0.5 - f64::from(W / 2)));
+        let se = (p * (1.0 - p) / f64::from(frames)).sqrt();
+        assert!(
+            (mean - p).abs() <= (5.0 * se).max(1e-4),
+            "raster, column {x}: mean {mean:.5} vs expected {p:.5} (5 SE {:.5})",
+            5.0 * se
+        );
     }
 }

@@ -571,6 +571,54 @@ mod tests {
     }
 
     #[test]
+    fn lens_orthographic_and_filters_become_mitsubas_sensors_and_rfilters() {
+        use crate::scene::camera::{FovAxis, Lens, Projection};
+        let options = ExportOptions {
+            size: [64, 32],
+            max_depth: None,
+        };
+        let mut s = scene(vec![Material::default()]);
+        let lens = Projection::Perspective {
+            fov_degrees: 30.0,
+            fov_axis: FovAxis::Diagonal,
+            lens: Some(Lens {
+                aperture_radius: 0.25,
+                focus_distance: 4.5,
+            }),
+        };
+        s.camera = CameraDesc::with_projection(Vec3::Z, Vec3::ZERO, Vec3::Y, lens).unwrap();
+        s.filter = PixelFilter::Gaussian { stddev: 0.75 };
+        let xml = scene_xml(&s, &options, "");
+        assert_has(
+            &xml,
+            &[
+                "<sensor type=\"thinlens\">",
+                "<string name=\"fov_axis\" value=\"diagonal\"/>",
+                "name=\"fov\" value=\"30\"",
+                "<float name=\"aperture_radius\" value=\"0.25\"/>",
+                "<float name=\"focus_distance\" value=\"4.5\"/>",
+                "<rfilter type=\"gaussian\">",
+                "<float name=\"stddev\" value=\"0.75\"/>",
+                "<boolean name=\"sample_border\" value=\"true\"/>",
+            ],
+        );
+        let ortho = Projection::Orthographic { width: 3.0 };
+        s.camera = CameraDesc::with_projection(Vec3::Z, Vec3::ZERO, Vec3::Y, ortho).unwrap();
+        s.filter = PixelFilter::Tent { radius: 2.0 };
+        let xml = scene_xml(&s, &options, "");
+        assert_has(
+            &xml,
+            &[
+                "<sensor type=\"orthographic\">",
+                "<scale x=\"1.5\" y=\"1.5\"/>\n            <lookat",
+                "<rfilter type=\"tent\">",
+                "<float name=\"radius\" value=\"2\"/>",
+            ],
+        );
+        assert!(!xml.contains("fov"), "{xml}");
+    }
+
+    #[test]
     fn meshes_keep_normals_and_uvs_and_give_the_others_flat_defaults() {
         let mut a = MeshTriangle::flat([Vec3::ZERO, Vec3::X, Vec3::Y], 0);
         let b = a;
