@@ -272,3 +272,28 @@ fn raster_graph_jitters_the_frame_by_the_filter() {
         );
     }
 }
+
+#[test]
+fn the_reprojection_graph_refuses_a_lens_or_orthographic_camera() {
+    for camera in [
+        format!("{CAMERA}, aperture_radius: 1, focus_distance: 10)"),
+        "Orthographic(eye: (0, 0, 0), target: (0, 0, -1), up: (0, 1, 0), width: 4)".to_string(),
+    ] {
+        let dir = scene(&half_plane(-10.0), &camera, "");
+        let s = RenderSettings {
+            size: [16, 16],
+            ..RenderSettings::new(
+                root().join("graphs/pathtracer-reproject.ron"),
+                dir.path().join("scene.ron"),
+            )
+        };
+        let message = match passgraph::render::session::Session::new(&s) {
+            Ok(_) => panic!("{camera}: the reprojection graph should refuse it"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            message.contains("scene.ron") && message.contains("camera_previous"),
+            "{message}"
+        );
+    }
+}
