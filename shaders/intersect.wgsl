@@ -29,10 +29,9 @@ fn shade(id: vec3<u32>) {
     }
     let pixel = vec2<i32>(id.xy);
     let source = sample_source(id.xy, 1u, 0u);
-    let jitter = select(vec2<f32>(0.5), sample_2d(source, DIM_PIXEL), pixel_jitter);
-    let dir = camera_ray_dir(id.xy, jitter);
-    let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
-    store_primary(pixel, camera.eye, dir, hit);
+    let ray = camera_sample_ray(id.xy, source, pixel_jitter);
+    let hit = closest_hit(ray.origin, ray.dir, 0.0, 3.0e38);
+    store_primary(pixel, ray.origin, ray.dir, hit);
 }
 
 @compute @workgroup_size(8, 8)

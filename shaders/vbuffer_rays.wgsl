@@ -1,6 +1,7 @@
 // Visibility buffer to rays: turns visibility.wgsl's vbuffer into the ray texture exactly as
 // intersect writes it (lib/ray_texture.wgsl), so the lighting passes run unchanged. The ray is
-// the frame's jittered camera ray (lib/frame_jitter.wgsl); t, u, v come from the same watertight
+// the frame's jittered camera ray (lib/frame_jitter.wgsl, through the lens of a thin-lens camera,
+// whose lens sample is the pixel's own); t, u, v come from the same watertight
 // test intersect's traversal applies (bvh_intersect_triangle) against the drawn triangle alone,
 // so they are intersect's wherever both see that triangle. Where the test disagrees with the
 // rasteriser (a pixel whose ray grazes the drawn triangle's edge), the ray passes a cut-out
@@ -31,14 +32,17 @@ fn convert(id: vec3<u32>) {
         return;
     }
     let pixel = vec2<i32>(id.xy);
-    let dir = camera_ray_dir(id.xy, frame_jitter());
+    let primary = camera_ray(id.xy, frame_jitter(), camera_lens_sample(sample_source(id.xy, 1u, 0u)));
+    let origin = primary.origin;
+    let dir = primary.dir;
     let drawn = textureLoad(vbuffer, pixel, 0).x;
     var hit = Hit(3.0e38, 0.0, 0.0, BVH_NO_HIT);
     var found = false;
-    if drawn != 0u && drawn <= scene_triangle_count {
+    // visibility.wgsl rasterises through the pinhole only: other cameras trace every ray.
+    if scene_camera_kind == CAMERA_PINHOLE && drawn != 0u && drawn <= scene_triangle_count {
         let k = drawn - 1u;
         let p = scene_triangle_vertices(triangles, k);
-        let ray = bvh_prepare_ray(camera.eye, dir);
+        let ray = bvh_prepare_ray(origin, dir);
         let h = bvh_intersect_triangle(ray, p[0], p[1], p[2], 0.0, 3.0e38);
         // A cut-out the ray passes (bvh_stops decides as the traversal would) was drawn but
         // is not what the ray sees: trace past it.
@@ -49,9 +53,9 @@ fn convert(id: vec3<u32>) {
         }
     }
     if !found {
-        hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
+        hit = closest_hit(origin, dir, 0.0, 3.0e38);
     }
-    store_primary(pixel, camera.eye, dir, hit);
+    store_primary(pixel, origin, dir, hit);
 }
 
 @compute @workgroup_size(8, 8)

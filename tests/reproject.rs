@@ -40,13 +40,8 @@ fn image(s: &Session) -> RgbImage {
 /// view, shifted by about a pixel at this size.
 fn moved(s: &Session) -> CameraDesc {
     let c = s.scene_description().camera;
-    CameraDesc::new(
-        c.eye() + Vec3::new(22.0, 7.0, 10.0),
-        c.target(),
-        c.up(),
-        c.fov_y_degrees(),
-    )
-    .unwrap()
+    c.moved(c.eye() + Vec3::new(22.0, 7.0, 10.0), c.target(), c.up())
+        .unwrap()
 }
 
 /// Per-pixel sample counts (the w of the sum plane).

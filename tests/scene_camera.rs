@@ -34,9 +34,15 @@ fn gpu_camera_scales_right_and_up_by_fov_and_aspect() {
     assert_eq!(camera.forward, [0.0, 0.0, 1.0]);
     assert!(close(Vec3::from(camera.up), Vec3::Y * t));
     assert!(close(Vec3::from(camera.right), -Vec3::X * t * 2.0));
-    // Padding is zero, so the uniform's bytes are deterministic.
+    // Padding, and a pinhole's lens fields, are zero, so the uniform's bytes are deterministic
+    // (and what they were before the lens existed).
     assert_eq!(
-        (camera.pad0, camera.pad1, camera.pad2, camera.pad3),
+        (
+            camera.aperture_radius,
+            camera.focus_distance,
+            camera.pad2,
+            camera.pad3
+        ),
         (0.0, 0.0, 0.0, 0.0)
     );
 }

@@ -95,9 +95,9 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
             size_of::<GpuCamera>(),
             fields!(GpuCamera {
                 eye,
-                pad0,
+                aperture_radius,
                 forward,
-                pad1,
+                focus_distance,
                 right,
                 pad2,
                 up,

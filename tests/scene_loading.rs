@@ -305,7 +305,7 @@ fn scene_numbers_may_be_integers_or_floats_and_mesh_is_relative_to_the_scene() {
     let scene = load_scene(&path).unwrap();
     assert_eq!(scene.camera.eye(), Vec3::new(1.0, 2.5, -3.0));
     assert_eq!(scene.camera.target(), Vec3::new(1.0, 2.0, 0.0));
-    assert_eq!(scene.camera.fov_y_degrees(), 45.0);
+    assert_eq!(scene.camera.fov_y_degrees_for(1, 1), Some(45.0));
     assert_eq!(scene.mesh.triangles.len(), 5);
     assert_eq!(scene.path, path);
 }

@@ -27,11 +27,11 @@ override samples_per_frame: u32 = 1u;
 @group(0) @binding(13) var shading: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(14) var textures: texture_storage_2d<rgba32uint, read>;
 
-// The jittered primary ray of `pixel` for `source` and its closest hit (as intersect traces it).
+// The primary ray of `pixel` for `source` (filtered, through the lens) and its closest hit (as intersect traces it).
 fn path_primary(pixel: vec2<u32>, source: SampleSource) -> Primary {
-    let dir = camera_ray_dir(pixel, sample_2d(source, DIM_PIXEL));
-    let hit = closest_hit(camera.eye, dir, 0.0, 3.0e38);
-    return Primary(camera.eye, dir, hit.t, hit.u, hit.v, hit.triangle);
+    let ray = camera_sample_ray(pixel, source, true);
+    let hit = closest_hit(ray.origin, ray.dir, 0.0, 3.0e38);
+    return Primary(ray.origin, ray.dir, hit.t, hit.u, hit.v, hit.triangle);
 }
 
 // Writes the frame's channels: the sums of its samples_per_frame samples, as means.

@@ -23,6 +23,9 @@ const DIM_BOUNCE_SELECT: u32 = 5u;    // indirect: which light at the bounce's h
 const DIM_BOUNCE_LIGHT: u32 = 6u;     // indirect: point on that light
 const DIM_DIRECT_BSDF: u32 = 7u;      // direct: BSDF-sampled direction at the primary hit (MIS)
 const SAMPLER_LIGHT_STRIDE: u32 = 8u;
+// The thin lens's aperture sample (lib/camera_ray.wgsl): far from every other pair, so pairs
+// added above never meet it and no other pass's samples move.
+const DIM_LENS: u32 = 0x30000000u;
 // 1D choices of a BSDF lobe, and every sample of path vertices past the first bounce's hit,
 // take pairs far above the light pairs (dim + 8 i): path_dim below.
 const DIM_DIRECT_LOBE: u32 = 0x40000000u;

@@ -40,3 +40,22 @@ fn offset_ray(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let step = (1.0 / 65536.0) * n;
     return select(p_i, p + step, abs(p) < vec3<f32>(near));
 }
+
+// Shirley and Chiu's concentric map of the unit square onto the unit disk (Mitsuba's
+// square_to_uniform_disk_concentric): uniform, and the sampler's strata stay compact.
+fn square_to_disk_concentric(u: vec2<f32>) -> vec2<f32> {
+    let a = 2.0 * u - vec2<f32>(1.0);
+    if all(a == vec2<f32>(0.0)) {
+        return vec2<f32>(0.0);
+    }
+    var r: f32;
+    var phi: f32;
+    if abs(a.x) > abs(a.y) {
+        r = a.x;
+        phi = 0.25 * PI * (a.y / a.x);
+    } else {
+        r = a.y;
+        phi = 0.5 * PI - 0.25 * PI * (a.x / a.y);
+    }
+    return r * vec2<f32>(cos(phi), sin(phi));
+}

@@ -21,6 +21,12 @@ override scene_has_shading_normals: bool = true;
 override scene_has_uvs: bool = true;
 override scene_has_textures: bool = true;
 override scene_has_cutouts: bool = false;
+// The camera's projection (CAMERA_* in lib/camera_ray.wgsl) and the pixel filter (FILTER_* in
+// lib/pixel_filter.wgsl) with its stddev or radius: a pinhole with a box filter specialises to
+// the plain pinhole ray.
+override scene_camera_kind: u32 = 0u;
+override scene_filter: u32 = 0u;
+override scene_filter_size: f32 = 0.0;
 
 // Bit 1 << kind for each kind of light in scene.lights (LIGHT_AREA, ...): code for absent
 // kinds is specialised away, so a scene of emissive triangles traces as it always did.
@@ -160,13 +166,15 @@ struct PackedBvhNode {
     link: u32,
 }
 
-// Pinhole camera. `right` and `up` are scaled so that a pixel's direction is
-// normalize(forward + sx * right + sy * up) with sx, sy in [-1, 1] (sy = +1 at the top row).
+// The camera. `right` and `up` are scaled so that a pixel's direction is
+// normalize(forward + sx * right + sy * up) with sx, sy in [-1, 1] (sy = +1 at the top row);
+// an orthographic camera's rays start at eye + sx * right + sy * up instead, along forward.
+// A thin lens's aperture_radius and focus_distance are 0 otherwise (lib/camera_ray.wgsl).
 struct Camera {
     eye: vec3<f32>,
-    pad0: f32,
+    aperture_radius: f32,
     forward: vec3<f32>,
-    pad1: f32,
+    focus_distance: f32,
     right: vec3<f32>,
     pad2: f32,
     up: vec3<f32>,

@@ -9,7 +9,7 @@
 //! ])
 //! ```
 
-use crate::scene::CameraDesc;
+use crate::scene::{CameraDesc, CameraError, FovAxis, Projection};
 use glam::Vec3;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -43,6 +43,24 @@ pub struct Segment {
     pub reference: Option<PathBuf>,
 }
 
+/// `camera` with a vertical field of view of `fov_y` degrees (its lens kept).
+fn with_fov_y(camera: &CameraDesc, fov_y: f32) -> Result<CameraDesc, CameraError> {
+    match camera.projection() {
+        Projection::Perspective { lens, .. } => {
+            if !(fov_y > 0.0 && fov_y < 180.0) {
+                return Err(CameraError::FieldOfView(fov_y));
+            }
+            let projection = Projection::Perspective {
+                fov_degrees: fov_y,
+                fov_axis: FovAxis::Y,
+                lens,
+            };
+            CameraDesc::with_projection(camera.eye(), camera.target(), camera.up(), projection)
+        }
+        Projection::Orthographic { .. } => Err(CameraError::FovOfOrthographic),
+    }
+}
+
 /// Reads a camera path; each segment's camera is the previous one's (the scene's for the
 /// first) with the fields it names replaced. Errors name the file and, for syntax, the line.
 pub fn load_camera_path(path: &Path, start: CameraDesc) -> Result<Vec<Segment>, String> {
@@ -71,13 +89,23 @@ pub fn load_camera_path(path: &Path, start: CameraDesc) -> Result<Vec<Segment>, 
     let mut segments = Vec::with_capacity(file.0.len());
     for (i, s) in file.0.into_iter().enumerate() {
         let v = |x: Option<[f32; 3]>, old: Vec3| x.map_or(old, Vec3::from);
-        camera = CameraDesc::new(
-            v(s.eye, camera.eye()),
-            v(s.target, camera.target()),
-            v(s.up, camera.up()),
-            s.fov_y.unwrap_or(camera.fov_y_degrees()),
-        )
-        .map_err(|e| format!("{}: segment {}: {e}", path.display(), i + 1))?;
+        // A segment keeps the camera's projection and lens; fov_y makes it a vertical field of
+        // view (an orthographic camera has none to change).
+        let moved = match s.fov_y {
+            None => camera.moved(
+                v(s.eye, camera.eye()),
+                v(s.target, camera.target()),
+                v(s.up, camera.up()),
+            ),
+            Some(fov_y) => with_fov_y(&camera, fov_y).and_then(|c| {
+                c.moved(
+                    v(s.eye, camera.eye()),
+                    v(s.target, camera.target()),
+                    v(s.up, camera.up()),
+                )
+            }),
+        };
+        camera = moved.map_err(|e| format!("{}: segment {}: {e}", path.display(), i + 1))?;
         if s.frames == 0 {
             return Err(format!(
                 "{}: segment {}: frames must be at least 1",
@@ -121,7 +149,7 @@ mod tests {
         assert_eq!(s[1].camera.target(), Vec3::ZERO);
         assert_eq!(s[1].reference, Some(dir.path().join("b.exr")));
         assert_eq!(s[2].camera.eye(), Vec3::new(1.0, 0.0, -5.0));
-        assert_eq!(s[2].camera.fov_y_degrees(), 20.0);
+        assert_eq!(s[2].camera.fov_y_degrees_for(1, 1), Some(20.0));
     }
 
     #[test]

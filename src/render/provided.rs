@@ -91,7 +91,7 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: CAMERA,
         kind: ProvidedKind::Uniform,
-        what: "the pinhole camera",
+        what: "the camera: eye, forward and the scaled right and up (perspective or orthographic), the lens's aperture radius and focus distance",
         bytes: |i| {
             bytemuck::bytes_of(&i.scene.camera.to_gpu(i.tile.image[0], i.tile.image[1])).to_vec()
         },
@@ -188,6 +188,24 @@ const OVERRIDES: &[Override] = &[
         ty: ParamType::Bool,
         what: "whether a used material is cut out (opacity d < 1 or map_d)",
         value: |gpu| if gpu.has_cutouts { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_camera_kind",
+        ty: ParamType::U32,
+        what: "the camera's projection: 0 pinhole, 1 thin lens, 2 orthographic (lib/camera_ray.wgsl)",
+        value: |gpu| f64::from(gpu.camera_kind),
+    },
+    Override {
+        name: "scene_filter",
+        ty: ParamType::U32,
+        what: "the pixel filter: 0 box, 1 Gaussian, 2 tent (lib/pixel_filter.wgsl)",
+        value: |gpu| f64::from(gpu.filter),
+    },
+    Override {
+        name: "scene_filter_size",
+        ty: ParamType::F32,
+        what: "the Gaussian filter's stddev or the tent's radius, in pixels (0 for the box)",
+        value: |gpu| f64::from(gpu.filter_size),
     },
 ];
 

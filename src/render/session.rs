@@ -221,6 +221,7 @@ impl Session {
         tile: Tile,
         (scene, gpu_scene): (Scene, SceneGpu),
     ) -> Result<Session, RenderError> {
+        check_history_camera(&plan, &scene)?;
         let provided = provided_data(&ProvidedInputs {
             scene: &scene,
             gpu: &gpu_scene,
@@ -530,6 +531,33 @@ pub fn check_render_contract(plan: &Plan, channel: &ChannelSelection) -> Result<
         output_texture_format(plan, name).map_err(RenderError::Other)?;
     }
     Ok(())
+}
+
+/// A graph that binds `camera_previous` reprojects its history through it as a pinhole does
+/// (shaders/reproject.wgsl): a point seen through a thin lens lands on a blur of pixels and an
+/// orthographic camera projects differently, so such a scene is refused with the reason.
+fn check_history_camera(plan: &Plan, scene: &Scene) -> Result<(), RenderError> {
+    let kind = scene.camera.kind();
+    if kind == crate::scene::CameraKind::Pinhole {
+        return Ok(());
+    }
+    let reprojects = plan.passes.iter().find(|p| {
+        p.bindings
+            .iter()
+            .any(|b| plan.resources[b.resource].name == CAMERA_PREVIOUS)
+    });
+    match reprojects {
+        None => Ok(()),
+        Some(pass) => Err(RenderError::Other(format!(
+            "{}: the scene's camera is {}, but pass '{}' of graph {} reprojects history through \
+             `camera_previous` as a pinhole camera only; render this scene with a graph that \
+             does not reproject (e.g. graphs/pathtracer.ron)",
+            scene.path.display(),
+            kind.name(),
+            pass.name,
+            plan.graph.display()
+        ))),
+    }
 }
 
 /// Loads `settings.scene` with `settings.max_depth` applied, and its GPU form.

@@ -1,5 +1,6 @@
 //! The scene file (RON): which mesh to load, relative to the scene file, the camera and,
-//! optionally, the longest path (Mitsuba's `max_depth`, default 3).
+//! optionally, the longest path (Mitsuba's `max_depth`, default 3) and the pixel filter
+//! (default `Box`).
 //!
 //! ```ron
 //! Scene(
@@ -17,12 +18,20 @@
 //!     // or: environment: Environment(color: (0.5, 0.5, 0.5)),
 //! )
 //! ```
+//!
+//! The camera is `Camera(eye, target, up, fov_y: F)` (the vertical field of view), or
+//! `Camera(eye, target, up, fov: F, fov_axis: X | Y | Diagonal | Smaller | Larger)` (Mitsuba's
+//! `fov` / `fov_axis`; the axis defaults to X as Mitsuba's), either with
+//! `aperture_radius: R, focus_distance: D` for a thin lens (both or neither), or
+//! `Orthographic(eye, target, up, width: W)`: parallel rays from a rectangle W world units wide
+//! around the eye. `filter: Box | Gaussian(stddev: S) | Tent(radius: R)` (in pixels).
 
-use super::camera::{CameraDesc, CameraError};
 use super::emitters::{AnalyticLight, Emitters};
 use super::environment::{Environment, EnvironmentMap};
 use super::environment_image::load_environment_image;
+use super::camera::{CameraDesc, CameraError, FovAxis, Lens, Projection};
 use super::error::{Location, SceneError};
+use super::filter::PixelFilter;
 use super::gpu::DEFAULT_MAX_DEPTH;
 use super::mesh::MAX_COORDINATE;
 use super::mesh::{Mesh, load_mesh};
@@ -44,6 +53,8 @@ pub struct Scene {
     pub max_depth: u32,
     /// Point, spot and directional lights and the environment.
     pub emitters: Emitters,
+    /// The pixel filter (Box unless the file names one).
+    pub filter: PixelFilter,
 }
 
 /// The built-in default scene, relative to the crate root.
@@ -61,6 +72,8 @@ struct SceneFile {
     lights: Vec<LightFile>,
     #[serde(default)]
     environment: Option<EnvironmentFile>,
+    #[serde(default)]
+    filter: FilterFile,
 }
 
 #[derive(Debug, Deserialize)]
@@ -105,18 +118,181 @@ enum TransformFile {
     },
 }
 
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+enum FilterFile {
+    #[default]
+    Box,
+    Gaussian {
+        stddev: Number,
+    },
+    Tent {
+        radius: Number,
+    },
+}
+
+impl FilterFile {
+    fn filter(&self) -> PixelFilter {
+        match *self {
+            FilterFile::Box => PixelFilter::Box,
+            FilterFile::Gaussian { stddev } => PixelFilter::Gaussian { stddev: stddev.0 },
+            FilterFile::Tent { radius } => PixelFilter::Tent { radius: radius.0 },
+        }
+    }
+}
+
 fn default_max_depth() -> i64 {
     i64::from(DEFAULT_MAX_DEPTH)
 }
 
+/// `Camera(...)` (perspective, optionally a thin lens) or `Orthographic(...)`.
 #[derive(Debug, Deserialize)]
-#[serde(rename = "Camera", deny_unknown_fields)]
-struct CameraFile {
-    eye: (Number, Number, Number),
-    target: (Number, Number, Number),
-    up: (Number, Number, Number),
-    /// Vertical field of view in degrees.
-    fov_y: Number,
+#[serde(deny_unknown_fields)]
+enum CameraFile {
+    Camera {
+        eye: (Number, Number, Number),
+        target: (Number, Number, Number),
+        up: (Number, Number, Number),
+        /// Vertical field of view in degrees.
+        #[serde(default, deserialize_with = "some_number")]
+        fov_y: Option<Number>,
+        /// Field of view in degrees along `fov_axis`.
+        #[serde(default, deserialize_with = "some_number")]
+        fov: Option<Number>,
+        #[serde(default, deserialize_with = "some_axis")]
+        fov_axis: Option<FovAxisFile>,
+        #[serde(default, deserialize_with = "some_number")]
+        aperture_radius: Option<Number>,
+        #[serde(default, deserialize_with = "some_number")]
+        focus_distance: Option<Number>,
+    },
+    Orthographic {
+        eye: (Number, Number, Number),
+        target: (Number, Number, Number),
+        up: (Number, Number, Number),
+        /// The image's horizontal extent in world units.
+        width: Number,
+    },
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+enum FovAxisFile {
+    X,
+    Y,
+    Diagonal,
+    Smaller,
+    Larger,
+}
+
+/// An optional field written as a plain number (`fov: 40`, not `fov: Some(40)`).
+fn some_number<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<Number>, D::Error> {
+    Number::deserialize(deserializer).map(Some)
+}
+
+/// `fov_axis: X`, not `fov_axis: Some(X)`.
+fn some_axis<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<FovAxisFile>, D::Error> {
+    FovAxisFile::deserialize(deserializer).map(Some)
+}
+
+impl CameraFile {
+    /// The camera, or the error and the field it is about.
+    fn camera(&self) -> Result<CameraDesc, (CameraError, &'static str)> {
+        match *self {
+            CameraFile::Camera {
+                eye,
+                target,
+                up,
+                fov_y,
+                fov,
+                fov_axis,
+                aperture_radius,
+                focus_distance,
+            } => {
+                let (fov_degrees, fov_axis) = match (fov_y, fov, fov_axis) {
+                    (Some(_), Some(_), _) => return Err((CameraError::FovTwice, "fov")),
+                    (None, None, _) => return Err((CameraError::FovMissing, "camera")),
+                    (Some(_), None, Some(_)) => {
+                        return Err((CameraError::FovAxisWithoutFov, "fov_axis"));
+                    }
+                    (Some(f), None, None) => {
+                        // fov_y keeps its own message and the pinhole's exact arithmetic.
+                        if !(f.0 > 0.0 && f.0 < 180.0) {
+                            return Err((CameraError::FieldOfView(f.0), "fov_y"));
+                        }
+                        (f.0, FovAxis::Y)
+                    }
+                    (None, Some(f), axis) => (f.0, axis.map_or(FovAxis::X, FovAxisFile::axis)),
+                };
+                let lens = match (aperture_radius, focus_distance) {
+                    (None, None) => None,
+                    (Some(_), None) => {
+                        return Err((CameraError::ApertureWithoutFocus, "aperture_radius"));
+                    }
+                    (None, Some(_)) => {
+                        return Err((CameraError::FocusWithoutAperture, "focus_distance"));
+                    }
+                    (Some(r), Some(d)) => Some(Lens {
+                        aperture_radius: r.0,
+                        focus_distance: d.0,
+                    }),
+                };
+                let projection = Projection::Perspective {
+                    fov_degrees,
+                    fov_axis,
+                    lens,
+                };
+                CameraDesc::with_projection(vec3(eye), vec3(target), vec3(up), projection).map_err(
+                    |e| {
+                        let field = camera_error_field(&e);
+                        (e, field)
+                    },
+                )
+            }
+            CameraFile::Orthographic {
+                eye,
+                target,
+                up,
+                width,
+            } => CameraDesc::with_projection(
+                vec3(eye),
+                vec3(target),
+                vec3(up),
+                Projection::Orthographic { width: width.0 },
+            )
+            .map_err(|e| {
+                let field = camera_error_field(&e);
+                (e, field)
+            }),
+        }
+    }
+}
+
+impl FovAxisFile {
+    fn axis(self) -> FovAxis {
+        match self {
+            FovAxisFile::X => FovAxis::X,
+            FovAxisFile::Y => FovAxis::Y,
+            FovAxisFile::Diagonal => FovAxis::Diagonal,
+            FovAxisFile::Smaller => FovAxis::Smaller,
+            FovAxisFile::Larger => FovAxis::Larger,
+        }
+    }
+}
+
+/// The scene-file field a camera error is about (the line it points to).
+fn camera_error_field(e: &CameraError) -> &'static str {
+    match e {
+        CameraError::FieldOfView(_) | CameraError::FovOfOrthographic => "fov_y",
+        CameraError::Fov(_) | CameraError::FovTwice => "fov",
+        CameraError::FovAxisWithoutFov => "fov_axis",
+        CameraError::EyeAtTarget => "target",
+        CameraError::UpParallelToForward => "up",
+        CameraError::NonFinite | CameraError::FovMissing => "camera",
+        CameraError::OutOfRange { what, .. } => what,
+        CameraError::ApertureRadius(_) | CameraError::ApertureWithoutFocus => "aperture_radius",
+        CameraError::FocusDistance(_) | CameraError::FocusWithoutAperture => "focus_distance",
+        CameraError::OrthographicWidth(_) | CameraError::WidthOutOfRange { .. } => "width",
+    }
 }
 
 /// An f32 that may be written as an integer (`278` as well as `278.0`).
@@ -158,7 +334,8 @@ fn vec3((x, y, z): (Number, Number, Number)) -> Vec3 {
 /// Reads a scene file and the mesh it names (and that mesh's materials).
 ///
 /// Errors: the file cannot be read; RON syntax or schema (file:line:col); an invalid camera
-/// (eye at target, up parallel to the view, fov outside (0, 180)); any mesh error (see
+/// (eye at target, up parallel to the view, fov outside (0, 180), a lens or orthographic width
+/// that is not a finite number > 0, half a lens); an invalid filter size; any mesh error (see
 /// [`load_mesh`]).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let text = crate::text_file::read_utf8(path).map_err(|source| SceneError::Io {
@@ -175,29 +352,29 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         message: e.code.to_string(),
     })?;
     // Checked before the mesh: it is cheap, and its error is about this file.
-    let camera = CameraDesc::new(
-        vec3(file.camera.eye),
-        vec3(file.camera.target),
-        vec3(file.camera.up),
-        file.camera.fov_y.0,
-    )
-    .map_err(|source| {
-        let field = match source {
-            CameraError::FieldOfView(_) => "fov_y",
-            CameraError::EyeAtTarget => "target",
-            CameraError::UpParallelToForward => "up",
-            CameraError::NonFinite => "camera",
-            CameraError::OutOfRange { what, .. } => what,
-        };
-        SceneError::Camera {
+    let camera = file
+        .camera
+        .camera()
+        .map_err(|(source, field)| SceneError::Camera {
             at: Location {
                 path: path.to_path_buf(),
                 line: field_line(&text, field),
                 item: None,
             },
             source,
-        }
-    })?;
+        })?;
+    let filter = file
+        .filter
+        .filter()
+        .check()
+        .map_err(|message| SceneError::Syntax {
+            at: Location {
+                path: path.to_path_buf(),
+                line: field_line(&text, "filter"),
+                item: None,
+            },
+            message,
+        })?;
     let max_depth = check_max_depth(file.max_depth).map_err(|message| SceneError::Syntax {
         at: Location {
             path: path.to_path_buf(),
@@ -246,6 +423,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
             lights,
             environment,
         },
+        filter,
     })
 }
 

@@ -138,15 +138,17 @@ pub struct PackedBvhNode {
     pub link: u32,
 }
 
-/// Pinhole camera, `right` and `up` scaled by the field of view and aspect (see
-/// [`CameraDesc::to_gpu`](super::camera::CameraDesc::to_gpu)).
+/// The camera, `right` and `up` scaled by the field of view and aspect, or by the orthographic
+/// width (see [`CameraDesc::to_gpu`](super::camera::CameraDesc::to_gpu)); the projection itself
+/// is the `scene_camera_kind` override. The lens fields are 0 without a lens, so a pinhole's
+/// uniform is what it always was.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuCamera {
     pub eye: [f32; 3],
-    pub pad0: f32,
+    pub aperture_radius: f32,
     pub forward: [f32; 3],
-    pub pad1: f32,
+    pub focus_distance: f32,
     pub right: [f32; 3],
     pub pad2: f32,
     pub up: [f32; 3],
@@ -352,6 +354,12 @@ pub struct SceneGpu {
     pub material_kinds: u32,
     /// The longest path in segments (Mitsuba's `max_depth`): the `scene_max_depth` override.
     pub max_depth: u32,
+    /// The camera's projection (`CameraKind` as u32): the `scene_camera_kind` override.
+    pub camera_kind: u32,
+    /// The pixel filter (`filter::FILTER_*`) and its stddev or radius: the `scene_filter` and
+    /// `scene_filter_size` overrides.
+    pub filter: u32,
+    pub filter_size: f32,
     /// Per triangle in `triangles` order: normals and uvs. Empty when no triangle has either
     /// (`shading_bytes` then gives one dummy texel).
     pub shading: Vec<TriangleShading>,
@@ -445,6 +453,9 @@ impl SceneGpu {
             environment_table: Vec::new(),
             material_kinds,
             max_depth: DEFAULT_MAX_DEPTH,
+            camera_kind: 0,
+            filter: 0,
+            filter_size: 0.0,
             shading,
             textures: mesh.textures.clone(),
             has_shading_normals,
@@ -523,6 +534,9 @@ impl Scene {
             .collect();
         let mut gpu = SceneGpu {
             max_depth: self.max_depth,
+            camera_kind: self.camera.kind() as u32,
+            filter: self.filter.kind(),
+            filter_size: self.filter.size(),
             ..SceneGpu::build_with_points(&self.mesh, &points)
         };
         gpu.add_emitters(&self.emitters);

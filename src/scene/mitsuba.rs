@@ -8,7 +8,9 @@
 
 use super::emitters::AnalyticLight;
 use super::environment::{Environment, EnvironmentMap};
+use super::camera::{CameraDesc, CameraKind, Projection};
 use super::file::Scene;
+use super::filter::PixelFilter;
 use super::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
     Material, NO_TEXTURE,
@@ -261,11 +263,9 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
         <!-- No Russian roulette: passgraph has none. -->
         <integer name="rr_depth" value="1000"/>
     </integrator>
-    <sensor type="perspective">
-        <string name="fov_axis" value="y"/>
-        <float name="fov" value="{fov}"/>
-        <transform name="to_world">
-            <lookat origin="{eye}" target="{target}" up="{up}"/>
+    <sensor type="{sensor}">
+{projection}        <transform name="to_world">
+{scale}            <lookat origin="{eye}" target="{target}" up="{up}"/>
         </transform>
         <sampler type="$sampler_type">
             <integer name="sample_count" value="$spp"/>
@@ -275,17 +275,76 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
             <integer name="width" value="{w}"/>
             <integer name="height" value="{h}"/>
             <string name="pixel_format" value="rgb"/>
-            <rfilter type="box"/>
-        </film>
+{filter}        </film>
     </sensor>
 {shapes}</scene>
 "#,
         source = comment(&scene.path.display().to_string()),
-        fov = c.fov_y_degrees(),
+        sensor = sensor_type(c),
+        projection = indent(&sensor_parameters(c), 2),
+        scale = indent(&sensor_scale(c), 3),
+        filter = indent(&film_filter(scene.filter), 3),
         eye = rgb(c.eye().into()),
         target = rgb(c.target().into()),
         up = rgb(c.up().into()),
     )
+}
+
+/// The Mitsuba sensor plugin of a camera.
+fn sensor_type(c: &CameraDesc) -> &'static str {
+    match c.kind() {
+        CameraKind::Pinhole => "perspective",
+        CameraKind::ThinLens => "thinlens",
+        CameraKind::Orthographic => "orthographic",
+    }
+}
+
+/// The sensor's field of view and lens.
+fn sensor_parameters(c: &CameraDesc) -> String {
+    match c.projection() {
+        Projection::Perspective {
+            fov_degrees,
+            fov_axis,
+            lens,
+        } => {
+            let mut xml = format!(
+                "<string name=\"fov_axis\" value=\"{}\"/>\n<float name=\"fov\" value=\"{fov_degrees}\"/>\n",
+                fov_axis.mitsuba_name()
+            );
+            if let Some(lens) = lens {
+                let _ = write!(
+                    xml,
+                    "<float name=\"aperture_radius\" value=\"{}\"/>\n<float name=\"focus_distance\" value=\"{}\"/>\n",
+                    lens.aperture_radius, lens.focus_distance
+                );
+            }
+            xml
+        }
+        Projection::Orthographic { .. } => String::new(),
+    }
+}
+
+/// An orthographic sensor's plane spans x in [-1, 1] before to_world: scaled to half the width
+/// (applied before the lookat, as Mitsuba composes transform elements in order).
+fn sensor_scale(c: &CameraDesc) -> String {
+    match c.projection() {
+        Projection::Orthographic { width } => {
+            let half = 0.5 * width;
+            format!("<scale x=\"{half}\" y=\"{half}\"/>\n")
+        }
+        Projection::Perspective { .. } => String::new(),
+    }
+}
+
+/// The film's reconstruction filter. A wider one than the box also samples the border, the
+/// filter's radius beyond the image: passgraph's filter importance sampling draws positions
+/// there for the edge pixels too, so both converge to the same filtered image.
+fn film_filter(filter: PixelFilter) -> String {
+    let mut xml = filter.mitsuba_xml() + "\n";
+    if filter != PixelFilter::Box {
+        xml += "<boolean name=\"sample_border\" value=\"true\"/>\n";
+    }
+    xml
 }
 
 /// The BSDF of material `index` as Mitsuba XML:
@@ -456,6 +515,7 @@ mod tests {
             camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),
             max_depth: 3,
             emitters: Default::default(),
+            filter: PixelFilter::Box,
         }
     }
 
@@ -686,6 +746,54 @@ mod tests {
                 "<rfilter type=\"box\"/>",
             ],
         );
+    }
+
+    #[test]
+    fn lens_orthographic_and_filters_become_mitsubas_sensors_and_rfilters() {
+        use crate::scene::camera::{FovAxis, Lens, Projection};
+        let options = ExportOptions {
+            size: [64, 32],
+            max_depth: None,
+        };
+        let mut s = scene(vec![Material::default()]);
+        let lens = Projection::Perspective {
+            fov_degrees: 30.0,
+            fov_axis: FovAxis::Diagonal,
+            lens: Some(Lens {
+                aperture_radius: 0.25,
+                focus_distance: 4.5,
+            }),
+        };
+        s.camera = CameraDesc::with_projection(Vec3::Z, Vec3::ZERO, Vec3::Y, lens).unwrap();
+        s.filter = PixelFilter::Gaussian { stddev: 0.75 };
+        let xml = scene_xml(&s, &options, "");
+        assert_has(
+            &xml,
+            &[
+                "<sensor type=\"thinlens\">",
+                "<string name=\"fov_axis\" value=\"diagonal\"/>",
+                "name=\"fov\" value=\"30\"",
+                "<float name=\"aperture_radius\" value=\"0.25\"/>",
+                "<float name=\"focus_distance\" value=\"4.5\"/>",
+                "<rfilter type=\"gaussian\">",
+                "<float name=\"stddev\" value=\"0.75\"/>",
+                "<boolean name=\"sample_border\" value=\"true\"/>",
+            ],
+        );
+        let ortho = Projection::Orthographic { width: 3.0 };
+        s.camera = CameraDesc::with_projection(Vec3::Z, Vec3::ZERO, Vec3::Y, ortho).unwrap();
+        s.filter = PixelFilter::Tent { radius: 2.0 };
+        let xml = scene_xml(&s, &options, "");
+        assert_has(
+            &xml,
+            &[
+                "<sensor type=\"orthographic\">",
+                "<scale x=\"1.5\" y=\"1.5\"/>\n            <lookat",
+                "<rfilter type=\"tent\">",
+                "<float name=\"radius\" value=\"2\"/>",
+            ],
+        );
+        assert!(!xml.contains("fov"), "{xml}");
     }
 
     #[test]

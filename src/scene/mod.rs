@@ -1,4 +1,4 @@
-//! Scenes: a RON scene file naming a mesh (OBJ/MTL through tobj, or PLY) and a pinhole camera;
+//! Scenes: a RON scene file naming a mesh (OBJ/MTL through tobj, or PLY), a camera and a pixel filter;
 //! the SAH BVH in its threaded, depth-first layout; the emissive triangles; and the `#[repr(C)]`
 //! buffers that mirror `shaders/lib/scene.wgsl`. `intersect` is the CPU twin of
 //! `shaders/lib/bvh.wgsl`, with the brute-force oracle the tests hold both to.
@@ -12,6 +12,7 @@ pub mod environment;
 pub mod environment_image;
 pub mod error;
 pub mod file;
+pub mod filter;
 pub mod gpu;
 pub mod hull;
 pub mod intersect;
@@ -26,9 +27,10 @@ pub mod texture;
 
 pub use bvh::{Bvh, BvhStats};
 pub use bvh_grid::BvhGrid;
-pub use camera::{CameraDesc, CameraError};
+pub use camera::{CameraDesc, CameraError, CameraKind, FovAxis, Lens, Projection};
 pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
+pub use filter::PixelFilter;
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,

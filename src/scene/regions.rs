@@ -15,7 +15,6 @@ pub const ENVIRONMENT_REGION: &str = "(environment)";
 /// leave the scene are under [`ENVIRONMENT_REGION`].
 pub fn material_regions(scene: &Scene, width: u32, height: u32) -> BTreeMap<String, Vec<usize>> {
     let gpu = scene.to_gpu();
-    let camera = scene.camera.to_gpu(width, height);
     let mut regions: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for y in 0..height {
         for x in 0..width {
@@ -23,11 +22,15 @@ pub fn material_regions(scene: &Scene, width: u32, height: u32) -> BTreeMap<Stri
             let mut uniform = true;
             for jy in [0.05, 0.5, 0.95] {
                 for jx in [0.05, 0.5, 0.95] {
-                    let dir = camera.ray_direction(width, height, x as f32 + jx, y as f32 + jy);
-                    let ray = Ray {
-                        origin: camera.eye.into(),
-                        dir,
-                    };
+                    // Through the lens's centre: a region is what the pinhole sees sharply.
+                    let (origin, dir) = scene.camera.ray(
+                        width,
+                        height,
+                        x as f32 + jx,
+                        y as f32 + jy,
+                        glam::Vec2::splat(0.5),
+                    );
+                    let ray = Ray { origin, dir };
                     let m = gpu
                         .closest_hit(&ray, 0.0, f32::MAX)
                         .map(|h| gpu.triangles[h.triangle as usize].material);

@@ -17,7 +17,8 @@ pub struct FlyCamera {
     world_up: Vec3,
     /// Kept so the target stays as far from the eye as the scene put it.
     target_distance: f32,
-    fov_y_degrees: f32,
+    /// The scene's camera: moves keep its projection and lens.
+    camera: CameraDesc,
     /// World units per second.
     speed: f32,
 }
@@ -43,7 +44,7 @@ impl FlyCamera {
             forward: camera.basis()[0],
             world_up: camera.up().normalize(),
             target_distance,
-            fov_y_degrees: camera.fov_y_degrees(),
+            camera: *camera,
             // Half the eye-target distance per second: the Cornell box is crossed in seconds.
             speed: 0.5 * target_distance,
         }
@@ -85,13 +86,13 @@ impl FlyCamera {
         if !changed {
             return None;
         }
-        CameraDesc::new(
-            self.eye,
-            self.eye + self.forward * self.target_distance,
-            self.world_up,
-            self.fov_y_degrees,
-        )
-        .ok()
+        self.camera
+            .moved(
+                self.eye,
+                self.eye + self.forward * self.target_distance,
+                self.world_up,
+            )
+            .ok()
     }
 }
 
