@@ -27,7 +27,7 @@ fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32,
     if l.cos_x <= 0.0 || l.cos_y <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let f = bsdf_eval(p.b, p.ns, p.s.front, wo, l.wi);
+    let f = point_eval(p, wo, l.wi);
     if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
@@ -36,7 +36,7 @@ fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32,
     }
     // geometry is cos_x over the point's solid-angle density; f already holds the cosine.
     let inverse_pdf = l.geometry / l.cos_x;
-    let weight = mis_light_weight(pmf / inverse_pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, l.wi));
+    let weight = mis_light_weight(pmf / inverse_pdf, point_pdf(p, wo, l.wi));
     return f * scene_material_ke(materials, light.material) * (inverse_pdf * weight / pmf);
 }
 

@@ -177,6 +177,12 @@ const OVERRIDES: &[Override] = &[
         what: "whether a used material is cut out (opacity d < 1 or map_d)",
         value: |gpu| if gpu.has_cutouts { 1.0 } else { 0.0 },
     },
+    Override {
+        name: "scene_has_surface_maps",
+        ty: ParamType::Bool,
+        what: "whether a used material has a normal map (MTL norm) or bump map (map_Bump, bump)",
+        value: |gpu| if gpu.has_surface_maps { 1.0 } else { 0.0 },
+    },
 ];
 
 /// The path tracer's provided resources and overrides, as the compiler checks graphs against.
