@@ -1,5 +1,6 @@
 //! Normal and bump maps on the GPU (lavapipe in CI): `shading_point`'s shading normal at given
-//! hits of random triangles, front and back, with normal maps, bump maps and none, through
+//! hits of random triangles, front and back, with normal maps, bump maps and none, and the
+//! maps' shadowing of random directions, through
 //! `tests/data/scenes/surface_map_check.wgsl`, against the CPU twin
 //! (`passgraph::scene::surface_map`).
 
@@ -8,7 +9,7 @@ mod common;
 use common::bvh_gpu::{dispatch_and_read, gpu, output_buffer, test_pipeline};
 use glam::{Vec2, Vec3};
 use passgraph::gpu::texels::create_texel_view;
-use passgraph::scene::surface_map::mapped_normal;
+use passgraph::scene::surface_map::{self, mapped_normal};
 use passgraph::scene::texture::Texture;
 use passgraph::scene::{
     MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, Mesh, MeshTriangle, SURFACE_MAP_BUMP,
@@ -23,6 +24,8 @@ struct Query {
     triangle: u32,
     bary: [f32; 2],
     pad: [u32; 2],
+    w: [f32; 3],
+    pad1: u32,
 }
 
 #[repr(C)]
@@ -31,7 +34,7 @@ struct Answer {
     ns: [f32; 3],
     front: u32,
     n_smooth: [f32; 3],
-    pad: u32,
+    shadowing: f32,
 }
 
 /// A small deterministic generator (xorshift), so failures reproduce.
@@ -142,6 +145,8 @@ fn the_mapped_shading_normal_matches_the_cpu_twin() {
             triangle: i % scene.triangles.len() as u32,
             bary: [u, v],
             pad: [0; 2],
+            w: rng.vec3().normalize().into(),
+            pad1: 0,
         });
     }
 
@@ -218,6 +223,12 @@ fn the_mapped_shading_normal_matches_the_cpu_twin() {
             "triangle {} (material {}) at {uv}, front {front}: CPU {expected} vs GPU {got}",
             q.triangle,
             t.material
+        );
+        let shadowing = surface_map::shadowing(n, got, q.w.into());
+        assert!(
+            (shadowing - a.shadowing).abs() < 1e-4,
+            "shadowing: CPU {shadowing} vs GPU {}",
+            a.shadowing
         );
         if (got - n).length() > 1e-3 {
             perturbed += 1;

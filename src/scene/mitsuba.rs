@@ -219,11 +219,16 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
     let twosided =
         |inner: String| format!("<bsdf type=\"twosided\">\n{}</bsdf>\n", indent(&inner, 1));
     // A normal or bump map adapts the model inside `twosided`, as passgraph mirrors the
-    // perturbed frame on back faces (src/scene/surface_map.rs).
+    // perturbed frame on back faces (src/scene/surface_map.rs); the flip of normals facing away
+    // and the terminator shadowing are Mitsuba's defaults (since 3.7.1), written out because
+    // passgraph models them.
     let mapped = |inner: String| -> Result<String, String> {
         if m.surface_map == NO_TEXTURE {
             return Ok(inner);
         }
+        let inner = format!(
+            "<boolean name=\"flip_invalid_normals\" value=\"true\"/>\n<boolean name=\"use_shadowing_function\" value=\"true\"/>\n{inner}"
+        );
         let texture = &textures[(m.surface_map & !SURFACE_MAP_BUMP) as usize];
         Ok(if m.surface_map & SURFACE_MAP_BUMP == 0 {
             format!(
@@ -526,6 +531,7 @@ mod tests {
             &[
                 "type=\"bumpmap\"",
                 "name=\"scale\" value=\"0.25\"",
+                "name=\"use_shadowing_function\" value=\"true\"",
                 "name=\"raw\" value=\"true\"",
             ],
         );

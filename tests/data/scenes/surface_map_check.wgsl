@@ -1,5 +1,6 @@
 // Test shader: lib/shading_point.wgsl's shading point at given hits, its shading normal before
-// and after the material's normal or bump map (lib/surface_map.wgsl) written back for the CPU
+// and after the material's normal or bump map (lib/surface_map.wgsl) and the map's shadowing
+// of a direction written back for the CPU
 // twin (src/scene/surface_map.rs) to check.
 #include "lib/scene.wgsl"
 #include "lib/sampling.wgsl"
@@ -14,13 +15,16 @@ struct Query {
     triangle: u32,
     bary: vec2<f32>,
     pad: vec2<u32>,
+    // A light direction to shadow.
+    w: vec3<f32>,
+    pad1: u32,
 }
 
 struct Answer {
     ns: vec3<f32>,
     front: u32,
     n_smooth: vec3<f32>,
-    pad: u32,
+    shadowing: f32,
 }
 
 @group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
@@ -38,5 +42,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let q = queries[i];
     let p = shading_point(q.triangle, q.bary.x, q.bary.y, q.dir);
-    answers[i] = Answer(p.ns, select(0u, 1u, p.s.front), p.n_smooth, 0u);
+    answers[i] = Answer(p.ns, select(0u, 1u, p.s.front), p.n_smooth,
+                        surface_map_shadowing(p.n_smooth, p.ns, q.w));
 }
