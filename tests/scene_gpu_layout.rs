@@ -58,7 +58,9 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 map_pr,
                 map_d,
                 opacity,
-                table
+                table,
+                surface_map,
+                bump_scale
             }),
         ),
         (

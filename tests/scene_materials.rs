@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 use passgraph::scene::texture::Encoding;
 use passgraph::scene::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Mesh, NO_TEXTURE, load_mesh,
+    Mesh, NO_TEXTURE, SURFACE_MAP_BUMP, load_mesh,
 };
 use std::path::Path;
 
@@ -224,7 +224,7 @@ fn out_of_range_values_name_the_mtl_line() {
 
 #[test]
 fn pm_between_0_and_1_and_unsupported_maps_warn() {
-    let (dir, mesh) = load("newmtl a\nPm 0.7\nmap_Bump tex.png\n", &["a"]);
+    let (dir, mesh) = load("newmtl a\nPm 0.7\ndisp tex.png\n", &["a"]);
     assert_eq!(mesh.materials[0].kind, MATERIAL_CONDUCTOR);
     let mtl = dir.path().join("m.mtl");
     let warnings = mesh.warnings.join("\n");
@@ -233,7 +233,7 @@ fn pm_between_0_and_1_and_unsupported_maps_warn() {
         "{warnings}"
     );
     assert!(
-        warnings.contains(&format!("{}:3: map_Bump", mtl.display())),
+        warnings.contains(&format!("{}:3: disp", mtl.display())),
         "{warnings}"
     );
 }
@@ -273,4 +273,97 @@ fn the_materials_showcase_loads_each_kind_and_its_texture() {
     assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
     let gpu = scene.to_gpu();
     assert!(gpu.has_textures && gpu.has_uvs && gpu.has_shading_normals && !gpu.has_cutouts);
+}
+
+#[test]
+fn normal_and_bump_maps_are_raw_textures_with_the_bump_scale() {
+    let (_dir, mesh) = load(
+        "newmtl a\nnorm tex.png\nnewmtl b\nmap_Bump -bm 0.25 tex.png\nnewmtl c\nbump tex.png\n",
+        &["a", "b", "c"],
+    );
+    let [a, b, c] = [0, 1, 2].map(|i| mesh.materials[i]);
+    assert_eq!(a.surface_map, 0);
+    assert_eq!(mesh.textures[0].encoding, Encoding::Raw);
+    // One image, one raw texture for all three.
+    assert_eq!(mesh.textures.len(), 1);
+    assert_eq!((b.surface_map, b.bump_scale), (SURFACE_MAP_BUMP, 0.25));
+    assert_eq!((c.surface_map, c.bump_scale), (SURFACE_MAP_BUMP, 1.0));
+}
+
+#[test]
+fn bad_normal_and_bump_maps_name_the_mtl_line() {
+    for (mtl, line, words) in [
+        (
+            "newmtl a\nmap_Bump -bm tex.png\n",
+            2,
+            "map_Bump: -bm needs a finite number (the bump scale) before the file name, found 'tex.png'",
+        ),
+        (
+            "newmtl a\n\nbump -bm\n",
+            3,
+            "bump: -bm needs a finite number",
+        ),
+        (
+            "newmtl a\nnorm missing.png\n",
+            2,
+            "norm: cannot read 'missing.png': No such file or directory",
+        ),
+        (
+            "newmtl a\nbump one.png\n",
+            2,
+            "bump: 'one.png' is a single texel: a bump map's heights need at least two texels",
+        ),
+        (
+            "newmtl a\nnorm tex.png\nbump tex.png\n",
+            3,
+            "this material already has a norm (line 2)",
+        ),
+    ] {
+        let dir = files(&[
+            ("m.obj", obj(&["a"]).as_bytes()),
+            ("m.mtl", mtl.as_bytes()),
+            ("tex.png", &png()),
+            ("one.png", &one_texel_png()),
+        ]);
+        let message = load_mesh(&dir.path().join("m.obj"))
+            .unwrap_err()
+            .to_string();
+        assert_names(&message, &dir.path().join("m.mtl"), line, words);
+    }
+}
+
+#[test]
+fn a_normal_map_on_faces_without_vt_names_the_map_and_the_face() {
+    let dir = files(&[
+        (
+            "m.obj",
+            b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl a\nf 1/1 2/2 3/3\nf 1 2 3\n",
+        ),
+        ("m.mtl", b"newmtl a\nKd 1 1 1\nnorm tex.png\n"),
+        ("tex.png", &png()),
+    ]);
+    let obj = dir.path().join("m.obj");
+    let message = load_mesh(&obj).unwrap_err().to_string();
+    assert_names(
+        &message,
+        &dir.path().join("m.mtl"),
+        3,
+        &format!(
+            "norm: material 'a' needs texture coordinates (vt) for its tangent frame, but the face at {}:10 has none",
+            obj.display()
+        ),
+    );
+}
+
+/// A 1 x 1 8-bit grey PNG.
+fn one_texel_png() -> Vec<u8> {
+    let image = image::GrayImage::from_raw(1, 1, vec![128]).unwrap();
+    let mut bytes = Vec::new();
+    image
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+    bytes
 }

@@ -39,7 +39,7 @@ fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32,
     if l.cos_x <= 0.0 || l.cos_y <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let f = bsdf_eval(p.b, p.ns, p.s.front, wo, l.wi);
+    let f = point_eval(p, wo, l.wi);
     if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
@@ -48,7 +48,7 @@ fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32,
     }
     // geometry is cos_x over the point's solid-angle density; f already holds the cosine.
     let inverse_pdf = l.geometry / l.cos_x;
-    let weight = mis_light_weight(pmf / inverse_pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, l.wi));
+    let weight = mis_light_weight(pmf / inverse_pdf, point_pdf(p, wo, l.wi));
     return f * scene_material_ke(materials, light.material) * (inverse_pdf * weight / pmf);
 }
 
@@ -65,7 +65,7 @@ fn emitter_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, light
     if dot(p.s.n, e.wi) <= 0.0 || all(e.value == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let f = bsdf_eval(p.b, p.ns, p.s.front, wo, e.wi);
+    let f = point_eval(p, wo, e.wi);
     if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
@@ -78,7 +78,7 @@ fn emitter_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, light
     }
     var weight = 1.0;
     if e.pdf > 0.0 {
-        weight = mis_light_weight(pmf * e.pdf, bsdf_pdf(p.b, p.ns, p.s.front, wo, e.wi));
+        weight = mis_light_weight(pmf * e.pdf, point_pdf(p, wo, e.wi));
     }
     return f * e.value * (weight / pmf);
 }

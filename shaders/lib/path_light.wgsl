@@ -6,7 +6,7 @@
 // One bounce from the primary hit p in the direction the BSDF sample u picks, and the light
 // of every path of 3 to scene_max_depth segments that continues it.
 fn bounce_path(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, u: vec2<f32>) -> vec3<f32> {
-    let bs = bsdf_sample(p.b, p.ns, p.s.front, wo, u, sample_1d(source, DIM_BOUNCE_LOBE));
+    let bs = point_sample(p, wo, u, sample_1d(source, DIM_BOUNCE_LOBE));
     if all(bs.weight == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
@@ -44,7 +44,7 @@ fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -
             break;
         }
         let u = sample_2d(source, path_dim(depth, PATH_DIM_BSDF));
-        let next = bsdf_sample(x.b, x.ns, x.s.front, wo, u, sample_1d(source, path_dim(depth, PATH_DIM_LOBE)));
+        let next = point_sample(x, wo, u, sample_1d(source, path_dim(depth, PATH_DIM_LOBE)));
         if all(next.weight == vec3<f32>(0.0)) {
             break;
         }

@@ -34,6 +34,8 @@ override scene_light_kinds: u32 = 0xffffffffu;
 // The environment's index in scene.lights (lib/emitters.wgsl), or NO_LIGHT: rays that miss
 // see black.
 override scene_environment: u32 = 0xffffffffu;
+// Whether a used material has a normal or bump map (lib/surface_map.wgsl).
+override scene_has_surface_maps: bool = true;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
@@ -81,6 +83,10 @@ struct Material {
     // The texel index in this view of the model's table (rough plastic's: bsdf_plastic.wgsl),
     // or NO_TABLE.
     table: u32,
+    // A normal map's texture index, a bump map's with SURFACE_MAP_BUMP set, or NO_TEXTURE
+    // (lib/surface_map.wgsl); the bump map's height scale.
+    surface_map: u32,
+    bump_scale: f32,
 }
 
 // A triangle's shading data in scene.shading (BVH order, 4 texels): corner normals n0..n2 and
@@ -105,6 +111,7 @@ const MATERIAL_CONDUCTOR: u32 = 2u;
 const MATERIAL_PLASTIC: u32 = 3u;
 const MATERIAL_DIELECTRIC: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
+const SURFACE_MAP_BUMP: u32 = 0x80000000u;
 const NO_TABLE: u32 = 0xffffffffu;
 const NO_LIGHT: u32 = 0xffffffffu;
 
@@ -243,7 +250,8 @@ fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Materia
     let f = scene_texel(view, 6u * i + 5u);
     return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), b.w,
                     bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
-                    bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y);
+                    bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y, f.z,
+                    bitcast<f32>(f.w));
 }
 
 // Only the emitted radiance of material i (what light sampling needs).

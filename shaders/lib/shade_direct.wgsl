@@ -37,7 +37,7 @@ fn shade_direct(ray: Primary, source: SampleSource) -> DirectSample {
 
 // A BSDF sample from the primary hit p: the emission it meets, weighted.
 fn bsdf_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> vec3<f32> {
-    let bs = bsdf_sample(p.b, p.ns, p.s.front, wo, sample_2d(source, DIM_DIRECT_BSDF), sample_1d(source, DIM_DIRECT_LOBE));
+    let bs = point_sample(p, wo, sample_2d(source, DIM_DIRECT_BSDF), sample_1d(source, DIM_DIRECT_LOBE));
     if all(bs.weight == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }

@@ -45,3 +45,11 @@ fn shading_uv(view: texture_storage_2d<rgba32uint, read>, triangle: u32, u: f32,
     let uv0 = bitcast<vec2<f32>>(vec2<u32>(a.w, b.w));
     return (1.0 - u - v) * uv0 + u * d.xy + v * d.zw;
 }
+
+// The corners' texture coordinates (uv0, uv1, uv2) of a triangle that has them.
+fn shading_corner_uvs(view: texture_storage_2d<rgba32uint, read>, triangle: u32) -> array<vec2<f32>, 3> {
+    let a = scene_texel(view, 4u * triangle);
+    let b = scene_texel(view, 4u * triangle + 1u);
+    let d = bitcast<vec4<f32>>(scene_texel(view, 4u * triangle + 3u));
+    return array<vec2<f32>, 3>(bitcast<vec2<f32>>(vec2<u32>(a.w, b.w)), d.xy, d.zw);
+}

@@ -35,6 +35,29 @@ fn texture_bilinear(view: texture_storage_2d<rgba32uint, read>, index: u32, uv: 
     return (f00 * w0.x + f10 * w1.x) * w0.y + (f01 * w0.x + f11 * w1.x) * w1.y;
 }
 
+// The derivative of texture `index`'s bilinear luminance with respect to (u, v), as Mitsuba 3's
+// bitmap eval_1_grad: the four texels' luminance differences times the resolution (a bump map's
+// slope). Mitsuba's v runs down the rows, so its v derivative is this one's negative.
+fn texture_gradient(view: texture_storage_2d<rgba32uint, read>, index: u32, uv: vec2<f32>) -> vec2<f32> {
+    let header = scene_texel(view, index);
+    let size = vec2<i32>(header.yz);
+    let p = fma(vec2<f32>(uv.x, 1.0 - uv.y), vec2<f32>(size), vec2<f32>(-0.5));
+    let i = floor(p);
+    let w1 = p - i;
+    let w0 = 1.0 - w1;
+    let x0 = texture_wrap(i32(i.x), size.x);
+    let x1 = texture_wrap(i32(i.x) + 1, size.x);
+    let y0 = u32(texture_wrap(i32(i.y), size.y) * size.x);
+    let y1 = u32(texture_wrap(i32(i.y) + 1, size.y) * size.x);
+    let f00 = dot(bitcast<vec4<f32>>(scene_texel(view, header.x + y0 + u32(x0))).rgb, TEXTURE_LUMINANCE);
+    let f10 = dot(bitcast<vec4<f32>>(scene_texel(view, header.x + y0 + u32(x1))).rgb, TEXTURE_LUMINANCE);
+    let f01 = dot(bitcast<vec4<f32>>(scene_texel(view, header.x + y1 + u32(x0))).rgb, TEXTURE_LUMINANCE);
+    let f11 = dot(bitcast<vec4<f32>>(scene_texel(view, header.x + y1 + u32(x1))).rgb, TEXTURE_LUMINANCE);
+    let d_row = fma(w0.y, f10 - f00, w1.y * (f11 - f01));
+    let d_column = fma(w0.x, f01 - f00, w1.x * (f11 - f10));
+    return vec2<f32>(f32(size.x) * d_row, -f32(size.y) * d_column);
+}
+
 // The material at uv: each map replaces its constant (map_kd: kd, map_ks: ks, map_pr: the
 // roughness r, alpha = r^2, map_d: opacity). m unchanged when no used material has a map
 // (specialised away).

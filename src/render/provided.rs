@@ -207,6 +207,12 @@ const OVERRIDES: &[Override] = &[
         what: "the Gaussian filter's stddev or the tent's radius, in pixels (0 for the box)",
         value: |gpu| f64::from(gpu.filter_size),
     },
+    Override {
+        name: "scene_has_surface_maps",
+        ty: ParamType::Bool,
+        what: "whether a used material has a normal map (MTL norm) or bump map (map_Bump, bump)",
+        value: |gpu| if gpu.has_surface_maps { 1.0 } else { 0.0 },
+    },
 ];
 
 /// The path tracer's provided resources and overrides, as the compiler checks graphs against.

@@ -282,8 +282,16 @@ mod tests {
     fn chi_square_of_the_sampled_directions_against_the_pdf() {
         // A dim sky with a bright small sun, under a rotation: what the sampler is for.
         let img = image(32, 17, |x, y| {
-            let sun = if (10..12).contains(&x) && (5..7).contains(&y) { 400.0 } else { 0.0 };
-            [0.2 + 0.05 * y as f32 + sun, 0.3 + sun, 0.5 + 0.01 * x as f32 + sun]
+            let sun = if (10..12).contains(&x) && (5..7).contains(&y) {
+                400.0
+            } else {
+                0.0
+            };
+            [
+                0.2 + 0.05 * y as f32 + sun,
+                0.3 + sun,
+                0.5 + 0.01 * x as f32 + sun,
+            ]
         });
         let rotation = Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
         let m = EnvironmentMap::new(PathBuf::new(), img, 1.0, rotation);
@@ -336,6 +344,9 @@ mod tests {
         let k = (dof - 1) as f64;
         let z = 4.753_424; // the standard normal's 1 - 1e-6 quantile
         let threshold = k * (1.0 - 2.0 / (9.0 * k) + z * (2.0 / (9.0 * k)).sqrt()).powi(3);
-        assert!(chi2 < threshold, "chi-square {chi2} over {k} dof, threshold {threshold}");
+        assert!(
+            chi2 < threshold,
+            "chi-square {chi2} over {k} dof, threshold {threshold}"
+        );
     }
 }

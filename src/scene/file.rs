@@ -26,10 +26,10 @@
 //! `Orthographic(eye, target, up, width: W)`: parallel rays from a rectangle W world units wide
 //! around the eye. `filter: Box | Gaussian(stddev: S) | Tent(radius: R)` (in pixels).
 
+use super::camera::{CameraDesc, CameraError, FovAxis, Lens, Projection};
 use super::emitters::{AnalyticLight, Emitters};
 use super::environment::{Environment, EnvironmentMap};
 use super::environment_image::load_environment_image;
-use super::camera::{CameraDesc, CameraError, FovAxis, Lens, Projection};
 use super::error::{Location, SceneError};
 use super::filter::PixelFilter;
 use super::gpu::DEFAULT_MAX_DEPTH;

@@ -44,7 +44,8 @@ pub struct Triangle {
 /// - Dielectric: one-sided glass of index `ior` (the front face is outside), transmittance tf.
 ///
 /// `map_*` index `scene.textures` (or [`NO_TEXTURE`]): a texture replaces kd, ks or the
-/// roughness r (alpha = r²); `map_d` and `opacity` < 1 cut the surface out.
+/// roughness r (alpha = r²); `map_d` and `opacity` < 1 cut the surface out. `surface_map`
+/// perturbs the shading normal (MTL `norm`, `map_Bump`: src/scene/surface_map.rs).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Material {
@@ -66,7 +67,11 @@ pub struct Material {
     /// The texel index in `scene.materials` of the model's table (rough plastic's), or
     /// `NO_TABLE`: src/scene/material_tables.rs sets it.
     pub table: u32,
-    pub pad: [u32; 2],
+    /// A normal map's texture index, or a bump map's with [`SURFACE_MAP_BUMP`] set, or
+    /// [`NO_TEXTURE`]: the two free words of the last texel, so the struct keeps its size.
+    pub surface_map: u32,
+    /// The bump map's height scale (MTL `-bm`, Mitsuba's `bumpmap` `scale`).
+    pub bump_scale: f32,
 }
 
 /// A triangle's shading data (`scene.shading`, in BVH order, 4 texels): corner normals
@@ -103,6 +108,10 @@ pub const NO_LIGHT: u32 = u32::MAX;
 
 /// A material's texture index when it has none.
 pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// The bit of `Material::surface_map` that makes its texture a bump map (a height field)
+/// rather than a tangent-space normal map; texture indices stay far below it.
+pub const SURFACE_MAP_BUMP: u32 = 1 << 31;
 
 /// A threaded BVH node as the build and the CPU twin see it, its box on the BVH's grid
 /// ([`BvhGrid`]); the GPU reads it as a [`PackedBvhNode`]. Interior: `count == 0` and `a` is the
@@ -234,7 +243,8 @@ impl Material {
             map_d: NO_TEXTURE,
             opacity: 1.0,
             table: super::material_tables::NO_TABLE,
-            pad: [0; 2],
+            surface_map: NO_TEXTURE,
+            bump_scale: 1.0,
         }
     }
 
@@ -373,6 +383,8 @@ pub struct SceneGpu {
     pub has_textures: bool,
     /// Whether a used material can be cut out (opacity < 1 or `map_d`): `scene_has_cutouts`.
     pub has_cutouts: bool,
+    /// Whether a used material has a normal or bump map: `scene_has_surface_maps`.
+    pub has_surface_maps: bool,
     pub bvh: BvhStats,
 }
 
@@ -432,6 +444,7 @@ impl SceneGpu {
         let has_cutouts = used
             .iter()
             .any(|m| m.opacity < 1.0 || m.map_d != NO_TEXTURE);
+        let has_surface_maps = used.iter().any(|m| m.surface_map != NO_TEXTURE);
         let has_shading_normals = mesh.triangles.iter().any(|t| t.normals.is_some());
         let has_uvs = mesh.triangles.iter().any(|t| t.uvs.is_some());
         let shading = if has_shading_normals || has_uvs {
@@ -462,6 +475,7 @@ impl SceneGpu {
             has_uvs,
             has_textures,
             has_cutouts,
+            has_surface_maps,
             triangles,
             materials,
             lights,

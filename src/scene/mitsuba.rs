@@ -6,14 +6,14 @@
 //! `$seed`): `mi.load_file(xml, spp=64, sampler_type="multijitter")`. Each material kind has its
 //! Mitsuba plugin (see [`bsdf_xml`]); Blinn-Phong has none and is an error.
 
+use super::camera::{CameraDesc, CameraKind, Projection};
 use super::emitters::AnalyticLight;
 use super::environment::{Environment, EnvironmentMap};
-use super::camera::{CameraDesc, CameraKind, Projection};
 use super::file::Scene;
 use super::filter::PixelFilter;
 use super::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material, NO_TEXTURE,
+    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
 use super::mesh::MeshTriangle;
 use super::texture::Texture;
@@ -357,7 +357,8 @@ fn film_filter(filter: PixelFilter) -> String {
 /// - Phong: an error (Mitsuba 3 has no Blinn-Phong).
 ///
 /// Colour maps are `bitmap` textures (sRGB), `map_d` a raw one under a `mask`; `ext_ior` is
-/// 1 (vacuum), as passgraph's.
+/// 1 (vacuum), as passgraph's. A normal map (`norm`) wraps the model in `normalmap`, a bump map
+/// in `bumpmap` with its `scale`, both with raw bitmaps, inside `twosided`.
 pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
     let m: Material = scene.mesh.materials[index as usize];
     let name = &scene.mesh.material_names[index as usize];
@@ -390,6 +391,33 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
     };
     let twosided =
         |inner: String| format!("<bsdf type=\"twosided\">\n{}</bsdf>\n", indent(&inner, 1));
+    // A normal or bump map adapts the model inside `twosided`, as passgraph mirrors the
+    // perturbed frame on back faces (src/scene/surface_map.rs); the flip of normals facing away
+    // and the terminator shadowing are Mitsuba's defaults (since 3.7.1), written out because
+    // passgraph models them.
+    let mapped = |inner: String| -> Result<String, String> {
+        if m.surface_map == NO_TEXTURE {
+            return Ok(inner);
+        }
+        let inner = format!(
+            "<boolean name=\"flip_invalid_normals\" value=\"true\"/>\n<boolean name=\"use_shadowing_function\" value=\"true\"/>\n{inner}"
+        );
+        let texture = &textures[(m.surface_map & !SURFACE_MAP_BUMP) as usize];
+        Ok(if m.surface_map & SURFACE_MAP_BUMP == 0 {
+            format!(
+                "<bsdf type=\"normalmap\">\n{}{}</bsdf>\n",
+                indent(&bitmap("normalmap", texture, true, name)?, 1),
+                indent(&inner, 1)
+            )
+        } else {
+            format!(
+                "<bsdf type=\"bumpmap\">\n{}    <float name=\"scale\" value=\"{}\"/>\n{}</bsdf>\n",
+                indent(&bitmap("height", texture, true, name)?, 1),
+                m.bump_scale,
+                indent(&inner, 1)
+            )
+        })
+    };
     let ior = |m: &Material| {
         format!(
             "<float name=\"int_ior\" value=\"{}\"/>\n<float name=\"ext_ior\" value=\"1.0\"/>\n",
@@ -397,19 +425,19 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
         )
     };
     let bsdf = match m.kind {
-        MATERIAL_LAMBERT => twosided(format!(
+        MATERIAL_LAMBERT => twosided(mapped(format!(
             "<bsdf type=\"diffuse\">\n{}</bsdf>\n",
             indent(&colour("reflectance", m.kd, m.map_kd)?, 1)
-        )),
-        MATERIAL_CONDUCTOR => twosided(ggx(
+        ))?),
+        MATERIAL_CONDUCTOR => twosided(mapped(ggx(
             "conductor",
             "roughconductor",
             format!(
                 "<string name=\"material\" value=\"none\"/>\n{}",
                 colour("specular_reflectance", m.kd, m.map_kd)?
             ),
-        )),
-        MATERIAL_PLASTIC => twosided(ggx(
+        ))?),
+        MATERIAL_PLASTIC => twosided(mapped(ggx(
             "plastic",
             "roughplastic",
             format!(
@@ -418,8 +446,8 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 colour("diffuse_reflectance", m.kd, m.map_kd)?,
                 colour("specular_reflectance", m.ks, m.map_ks)?
             ),
-        )),
-        MATERIAL_DIELECTRIC => ggx(
+        ))?),
+        MATERIAL_DIELECTRIC => mapped(ggx(
             "dielectric",
             "roughdielectric",
             format!(
@@ -427,7 +455,7 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 ior(&m),
                 rgb(m.tf)
             ),
-        ),
+        ))?,
         MATERIAL_PHONG => {
             return Err(format!(
                 "material '{name}' is Blinn-Phong, which Mitsuba 3 has no plugin for"
@@ -706,6 +734,42 @@ mod tests {
             &[
                 "type=\"mask\"",
                 "name=\"opacity\">",
+                "name=\"raw\" value=\"true\"",
+            ],
+        );
+    }
+
+    #[test]
+    fn surface_maps_adapt_the_model_inside_twosided_with_raw_bitmaps() {
+        let xml = bsdf(Material {
+            surface_map: 0,
+            ..Material::default()
+        })
+        .unwrap();
+        let (outer, inner) = (
+            xml.find("twosided").unwrap(),
+            xml.find("normalmap").unwrap(),
+        );
+        assert!(
+            outer < inner && inner < xml.find("diffuse").unwrap(),
+            "{xml}"
+        );
+        assert_has(
+            &xml,
+            &["name=\"normalmap\">", "name=\"raw\" value=\"true\""],
+        );
+        let xml = bsdf(Material {
+            surface_map: SURFACE_MAP_BUMP,
+            bump_scale: 0.25,
+            ..Material::default()
+        })
+        .unwrap();
+        assert_has(
+            &xml,
+            &[
+                "type=\"bumpmap\"",
+                "name=\"scale\" value=\"0.25\"",
+                "name=\"use_shadowing_function\" value=\"true\"",
                 "name=\"raw\" value=\"true\"",
             ],
         );

@@ -23,6 +23,7 @@ pub mod mitsuba;
 mod obj;
 mod ply;
 pub mod regions;
+pub mod surface_map;
 pub mod texture;
 
 pub use bvh::{Bvh, BvhStats};
@@ -34,7 +35,8 @@ pub use filter::PixelFilter;
 pub use gpu::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,
-    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
+    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle,
+    TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use material_tables::{NO_TABLE, materials_bytes};

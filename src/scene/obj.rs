@@ -12,7 +12,7 @@
 use super::error::{Location, SceneError};
 use super::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material, NO_TEXTURE,
+    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use super::texture::{Encoding, Texture};
@@ -88,6 +88,17 @@ struct MtlExtras {
     map_ks: Option<u32>,
     map_pr: Option<u32>,
     map_d: Option<u32>,
+    surface_map: Option<SurfaceMap>,
+}
+
+/// A material's normal map (`norm`) or bump map (`map_Bump`, `bump`) and where it was given.
+#[derive(Clone, Debug)]
+struct SurfaceMap {
+    /// `Material::surface_map`: the texture index, `SURFACE_MAP_BUMP` set for a bump map.
+    texture: u32,
+    bump_scale: f32,
+    keyword: String,
+    at: Location,
 }
 
 /// The first word of a line and the rest, trimmed.
@@ -557,8 +568,26 @@ fn check_mtl(
                     _ => e.map_d = Some(texture),
                 });
             }
-            "map_Ka" | "map_Bump" | "map_bump" | "map_Ns" | "map_ns" | "map_NS" | "bump"
-            | "map_Ke" | "map_Pm" | "map_Ps" | "norm" | "disp" | "decal" | "refl" => {
+            "norm" | "map_Bump" | "map_bump" | "bump" => {
+                let map = surface_map(path, dir, number, keyword, rest, textures)?;
+                let mut first = None;
+                set(&mut |e| match &e.surface_map {
+                    Some(earlier) => first = Some((earlier.keyword.clone(), earlier.at.line)),
+                    None => e.surface_map = Some(map.clone()),
+                });
+                if let Some((earlier, line)) = first {
+                    return Err(syntax(
+                        path,
+                        number,
+                        format!(
+                            "{keyword}: this material already has a {earlier} (line {}); give it a normal map or a bump map, not both",
+                            line.unwrap_or(0)
+                        ),
+                    ));
+                }
+            }
+            "map_Ka" | "map_Ns" | "map_ns" | "map_NS" | "map_Ke" | "map_Pm" | "map_Ps" | "disp"
+            | "decal" | "refl" => {
                 if rest.is_empty() {
                     return Err(syntax(path, number, format!("{keyword} needs a file name")));
                 }
@@ -571,6 +600,62 @@ fn check_mtl(
         }
     }
     Ok(materials)
+}
+
+/// A `norm FILE` (tangent-space normal map) or `map_Bump [-bm s] FILE` / `bump [-bm s] FILE`
+/// (height field, heights s x the texel's luminance: Mitsuba's `bumpmap` `scale` s) line. Both
+/// images are read raw (a normal map's texel is 2 rgb - 1, not a colour).
+fn surface_map(
+    path: &Path,
+    dir: &Path,
+    line: usize,
+    keyword: &str,
+    rest: &str,
+    textures: &mut Textures,
+) -> Result<SurfaceMap, SceneError> {
+    let bump = keyword != "norm";
+    let (bump_scale, file) = match rest.strip_prefix("-bm") {
+        Some(after) if bump && (after.is_empty() || after.starts_with(char::is_whitespace)) => {
+            let after = after.trim_start();
+            let (value, file) = after.split_once(char::is_whitespace).unwrap_or((after, ""));
+            match value.parse::<f32>() {
+                Ok(v) if v.is_finite() => (v, file.trim()),
+                _ => {
+                    return Err(syntax(
+                        path,
+                        line,
+                        format!(
+                            "{keyword}: -bm needs a finite number (the bump scale) before the file name, found '{value}'"
+                        ),
+                    ));
+                }
+            }
+        }
+        _ => (1.0, rest),
+    };
+    let texture = load_map(path, dir, line, keyword, file, Encoding::Raw, textures)?;
+    if bump {
+        let t = &textures.list[texture as usize];
+        if t.width * t.height == 1 {
+            return Err(syntax(
+                path,
+                line,
+                format!(
+                    "{keyword}: '{file}' is a single texel: a bump map's heights need at least two texels to have a slope"
+                ),
+            ));
+        }
+    }
+    Ok(SurfaceMap {
+        texture: if bump {
+            texture | SURFACE_MAP_BUMP
+        } else {
+            texture
+        },
+        bump_scale,
+        keyword: keyword.to_string(),
+        at: Location::line(path, line),
+    })
 }
 
 /// A `map_*` line's image, loaded once per file and encoding; its index in `textures`.
@@ -700,6 +785,9 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
                 ]),
                 _ => None,
             };
+            if uvs.is_none() {
+                check_surface_map_uvs(path, line, &mesh.material_names, material, &checked.extras)?;
+            }
             let normals = match triangle.map(|(_, vn)| vn) {
                 [Some(a), Some(b), Some(c)] => {
                     let n = [checked.normals[a], checked.normals[b], checked.normals[c]];
@@ -740,6 +828,31 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
         ));
     }
     Ok(mesh)
+}
+
+/// A normal or bump map needs the tangent frame that texture coordinates give: an error at the
+/// map's MTL line, naming the face without `vt`, when `material` has one.
+fn check_surface_map_uvs(
+    path: &Path,
+    face_line: usize,
+    names: &[String],
+    material: u32,
+    extras: &HashMap<String, MtlExtras>,
+) -> Result<(), SceneError> {
+    let Some(name) = names.get(material as usize) else {
+        return Ok(());
+    };
+    match extras.get(name).and_then(|e| e.surface_map.as_ref()) {
+        Some(map) => Err(SceneError::Syntax {
+            at: map.at.clone(),
+            message: format!(
+                "{}: material '{name}' needs texture coordinates (vt) for its tangent frame, but the face at {}:{face_line} has none",
+                map.keyword,
+                path.display()
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// GGX roughness r from `Pr`, or else from `Ns` as Blender's OBJ importer converts it
@@ -786,6 +899,11 @@ fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
         map_pr: extras.map_pr.unwrap_or(NO_TEXTURE),
         map_d: extras.map_d.unwrap_or(NO_TEXTURE),
         opacity: extras.d.unwrap_or(1.0),
+        surface_map: extras
+            .surface_map
+            .as_ref()
+            .map_or(NO_TEXTURE, |s| s.texture),
+        bump_scale: extras.surface_map.as_ref().map_or(1.0, |s| s.bump_scale),
         ..Material::default()
     };
     if glass {

@@ -105,6 +105,24 @@ impl Texture {
         (self.texel(x, y) * w0.x + self.texel(x + 1, y) * w1.x) * w0.y
             + (self.texel(x, y + 1) * w0.x + self.texel(x + 1, y + 1) * w1.x) * w1.y
     }
+
+    /// The CPU twin of `texture_gradient` in `shaders/lib/texture.wgsl`: the derivative of the
+    /// bilinear lookup of the luminance with respect to (u, v), as Mitsuba 3's bitmap
+    /// `eval_1_grad` (the four texels' luminance differences, times the resolution). Mitsuba's
+    /// v runs down the rows (1 - v), so its v derivative is this one's negative.
+    pub fn luminance_gradient(&self, uv: Vec2) -> Vec2 {
+        let size = Vec2::new(self.width as f32, self.height as f32);
+        let p = Vec2::new(uv.x, 1.0 - uv.y).mul_add(size, Vec2::splat(-0.5));
+        let i = p.floor();
+        let w1 = p - i;
+        let w0 = Vec2::ONE - w1;
+        let (x, y) = (i.x as i64, i.y as i64);
+        let f = |dx: i64, dy: i64| self.texel(x + dx, y + dy).truncate().dot(LUMINANCE.into());
+        let (f00, f10, f01, f11) = (f(0, 0), f(1, 0), f(0, 1), f(1, 1));
+        let d_row = w0.y.mul_add(f10 - f00, w1.y * (f11 - f01));
+        let d_column = w0.x.mul_add(f01 - f00, w1.x * (f11 - f10));
+        Vec2::new(size.x * d_row, -size.y * d_column)
+    }
 }
 
 /// The `scene.textures` buffer: one header texel per texture (first texel, width, height, 0),
