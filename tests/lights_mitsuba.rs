@@ -15,7 +15,6 @@ use common::root;
 use passgraph::render::image::RgbImage;
 use passgraph::scene::load_scene;
 use passgraph::scene::regions::{ENVIRONMENT_REGION, material_regions};
-use std::path::Path;
 
 const SIZE: u32 = 64;
 
