@@ -9,18 +9,13 @@
 
 mod common;
 
-use common::reference::check_region;
+use common::reference::{Halves, check_region};
 use common::render::{image, render, settings};
 use common::root;
-use passgraph::render::image::RgbImage;
 use passgraph::scene::load_scene;
 use passgraph::scene::regions::{ENVIRONMENT_REGION, material_regions};
 
 const SIZE: u32 = 64;
-
-fn reference(name: &str) -> RgbImage {
-    RgbImage::read_exr(&root().join("tests/data/references").join(name)).unwrap()
-}
 
 /// `scene` at `max_depth` (in a copy of its directory when the depth is not the file's).
 fn check(scene: &str, reference_name: &str, depth: u32, frames: u32, regions: &[&str]) {
@@ -53,14 +48,8 @@ fn check(scene: &str, reference_name: &str, depth: u32, frames: u32, regions: &[
         &render(&settings(graph, &path, SIZE, 2, &[]), frames),
         channels,
     );
-    let half_a = reference(&format!("{reference_name}-64-depth{depth}-a.exr"));
-    let half_b = reference(&format!("{reference_name}-64-depth{depth}-b.exr"));
-    let mut mean = half_a.clone();
-    for (p, q) in mean.pixels.iter_mut().zip(&half_b.pixels) {
-        for k in 0..3 {
-            p[k] = 0.5 * (p[k] + q[k]);
-        }
-    }
+    let halves = Halves::read(&format!("{reference_name}-64-depth{depth}"));
+    let mean = &halves.mean;
     let all = material_regions(
         &load_scene(&path).unwrap_or_else(|e| panic!("{e}")),
         SIZE,
@@ -70,13 +59,7 @@ fn check(scene: &str, reference_name: &str, depth: u32, frames: u32, regions: &[
         let pixels = all
             .get(name)
             .unwrap_or_else(|| panic!("{scene}: no region {name}"));
-        let noise: f64 = pixels
-            .iter()
-            .flat_map(|&i| (0..3).map(move |k| (i, k)))
-            .map(|(i, k)| (f64::from(half_a.pixels[i][k]) - f64::from(half_b.pixels[i][k])).powi(2))
-            .sum::<f64>()
-            / (3 * pixels.len()) as f64
-            / 4.0;
+        let noise = halves.noise(pixels);
         // Pixels that see only the environment are one lookup per sample, nearly noiseless: what
         // is left is the f32 direction-to-texel arithmetic (atan2, acos), which on lavapipe
         // differs from Mitsuba's CPU by a few 1e-4 relative (measured: RMSE 2.3e-4 of the mean
@@ -96,7 +79,7 @@ fn check(scene: &str, reference_name: &str, depth: u32, frames: u32, regions: &[
             &format!("{reference_name} {name}, max_depth {depth}"),
             &a,
             &b,
-            &mean,
+            mean,
             pixels,
             noise + arithmetic,
             0.01,

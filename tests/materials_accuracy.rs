@@ -9,18 +9,13 @@
 
 mod common;
 
-use common::reference::check_region;
+use common::reference::{Halves, check_region};
 use common::render::{image, render, settings};
 use common::root;
-use passgraph::render::image::RgbImage;
 use passgraph::scene::load_scene;
 use passgraph::scene::regions::material_regions;
 
 const SIZE: u32 = 128;
-
-fn reference(name: &str) -> RgbImage {
-    RgbImage::read_exr(&root().join("tests/data/references").join(name)).unwrap()
-}
 
 /// The scene at `max_depth`, in a temporary directory beside copies of its files.
 fn scene_at_depth(depth: u32) -> tempfile::TempDir {
@@ -50,16 +45,7 @@ fn check_depth(depth: u32, frames: u32) {
         &render(&settings(graph, &scene, SIZE, 2, &[]), frames),
         channels,
     );
-    // Two independent halves of the reference (different seeds): their mean is the reference,
-    // and a quarter of their mean squared difference its own noise.
-    let half_a = reference(&format!("materials-128-depth{depth}-a.exr"));
-    let half_b = reference(&format!("materials-128-depth{depth}-b.exr"));
-    let mut mean = half_a.clone();
-    for (p, q) in mean.pixels.iter_mut().zip(&half_b.pixels) {
-        for k in 0..3 {
-            p[k] = 0.5 * (p[k] + q[k]);
-        }
-    }
+    let halves = Halves::read(&format!("materials-128-depth{depth}"));
     let regions = material_regions(
         &load_scene(&scene).unwrap_or_else(|e| panic!("{e}")),
         SIZE,
@@ -75,18 +61,12 @@ fn check_depth(depth: u32, frames: u32) {
         "green",
     ] {
         let pixels = &regions[name];
-        let noise: f64 = pixels
-            .iter()
-            .flat_map(|&i| (0..3).map(move |k| (i, k)))
-            .map(|(i, k)| (f64::from(half_a.pixels[i][k]) - f64::from(half_b.pixels[i][k])).powi(2))
-            .sum::<f64>()
-            / (3 * pixels.len()) as f64
-            / 4.0;
+        let noise = halves.noise(pixels);
         check_region(
             &format!("{name}, max_depth {depth}"),
             &a,
             &b,
-            &mean,
+            &halves.mean,
             pixels,
             noise,
             0.01,

@@ -10,10 +10,9 @@
 
 mod common;
 
-use common::reference::check_region;
+use common::reference::{Halves, check_region};
 use common::render::{image, render, settings};
 use common::root;
-use passgraph::render::image::RgbImage;
 use passgraph::scene::load_scene;
 use passgraph::scene::regions::material_regions;
 use std::path::Path;
@@ -22,10 +21,6 @@ const SIZE: u32 = 96;
 const FRAMES: u32 = 256;
 const CHANNELS: &str = "l0+direct+indirect";
 const GRAPH: &str = "graphs/pathtracer.ron";
-
-fn reference(name: &str) -> RgbImage {
-    RgbImage::read_exr(&root().join("tests/data/references").join(name)).unwrap()
-}
 
 /// The plane's pixels in four regions: the quarters of the image it covers.
 fn quarters(scene: &Path) -> Vec<(String, Vec<usize>)> {
@@ -66,29 +61,14 @@ fn check_against_mitsuba(name: &str) {
         &render(&settings(GRAPH, &scene, SIZE, 2, &[]), FRAMES),
         CHANNELS,
     );
-    // Two independent halves of the reference (different seeds): their mean is the reference,
-    // and a quarter of their mean squared difference its own noise.
-    let half_a = reference(&format!("surface-{name}-96-depth3-a.exr"));
-    let half_b = reference(&format!("surface-{name}-96-depth3-b.exr"));
-    let mut mean = half_a.clone();
-    for (p, q) in mean.pixels.iter_mut().zip(&half_b.pixels) {
-        for k in 0..3 {
-            p[k] = 0.5 * (p[k] + q[k]);
-        }
-    }
+    let halves = Halves::read(&format!("surface-{name}-96-depth3"));
     for (region, pixels) in quarters(&scene) {
-        let noise: f64 = pixels
-            .iter()
-            .flat_map(|&i| (0..3).map(move |k| (i, k)))
-            .map(|(i, k)| (f64::from(half_a.pixels[i][k]) - f64::from(half_b.pixels[i][k])).powi(2))
-            .sum::<f64>()
-            / (3 * pixels.len()) as f64
-            / 4.0;
+        let noise = halves.noise(&pixels);
         check_region(
             &format!("{name} map, {region}"),
             &a,
             &b,
-            &mean,
+            &halves.mean,
             &pixels,
             noise,
             0.01,

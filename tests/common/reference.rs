@@ -104,3 +104,37 @@ pub fn check_region(
     );
     error
 }
+
+/// A reference made as two independent halves (Mitsuba renders with different seeds,
+/// `tests/data/references/NAME-a.exr` and `-b.exr`): their mean is the reference, and a quarter
+/// of their mean squared difference over a region its own noise.
+pub struct Halves {
+    pub a: RgbImage,
+    pub b: RgbImage,
+    pub mean: RgbImage,
+}
+
+impl Halves {
+    /// Reads `tests/data/references/{name}-a.exr` and `-b.exr`.
+    pub fn read(name: &str) -> Halves {
+        let dir = super::root().join("tests/data/references");
+        let read = |h: &str| RgbImage::read_exr(&dir.join(format!("{name}-{h}.exr"))).unwrap();
+        let (a, b) = (read("a"), read("b"));
+        let mut mean = a.clone();
+        for (p, q) in mean.pixels.iter_mut().zip(&b.pixels) {
+            for k in 0..3 {
+                p[k] = 0.5 * (p[k] + q[k]);
+            }
+        }
+        Halves { a, b, mean }
+    }
+
+    /// The mean's own mean squared error per component over `pixels`.
+    pub fn noise(&self, pixels: &[usize]) -> f64 {
+        squared_differences(&self.a, &self.b, pixels)
+            .iter()
+            .sum::<f64>()
+            / (3 * pixels.len()) as f64
+            / 4.0
+    }
+}
