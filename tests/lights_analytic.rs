@@ -234,18 +234,15 @@ fn white_furnace_a_lambertian_polyhedron_in_a_uniform_environment_reflects_rho_l
     // Sphere pixels: those whose whole footprint is on the sphere (the camera ray through each
     // corner meets the unit sphere, far enough inside its silhouette that facets do not matter).
     let camera = load_scene(&scene).unwrap().camera;
-    let hits = |px: f32, py: f32| {
+    // Whether the camera ray through image point (px, py) meets the sphere of radius r.
+    let meets = |px: f32, py: f32, r: f32| {
         let d = camera.to_gpu(SIZE, SIZE).ray_direction(SIZE, SIZE, px, py);
         let o = camera.eye();
         let b = o.dot(d);
-        b * b - (o.length_squared() - 0.9 * 0.9) > 0.0
+        b * b - (o.length_squared() - r * r) > 0.0
     };
-    let misses = |px: f32, py: f32| {
-        let d = camera.to_gpu(SIZE, SIZE).ray_direction(SIZE, SIZE, px, py);
-        let o = camera.eye();
-        let b = o.dot(d);
-        b * b - (o.length_squared() - 1.0) < 0.0
-    };
+    let hits = |px: f32, py: f32| meets(px, py, 0.9);
+    let misses = |px: f32, py: f32| !meets(px, py, 1.0);
     let (mut sphere, mut background) = (Vec::new(), 0);
     for y in 0..SIZE {
         for x in 0..SIZE {
