@@ -281,7 +281,7 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
 "#,
         source = comment(&scene.path.display().to_string()),
         sensor = sensor_type(c),
-        projection = indent(&sensor_parameters(c), 2),
+        projection = indent(&(sensor_parameters(c) + &far_clip(scene)), 2),
         scale = indent(&sensor_scale(c), 3),
         filter = indent(&film_filter(scene.filter), 3),
         eye = rgb(c.eye().into()),
@@ -322,6 +322,25 @@ fn sensor_parameters(c: &CameraDesc) -> String {
         }
         Projection::Orthographic { .. } => String::new(),
     }
+}
+
+/// Mitsuba's sensors stop camera rays at `far_clip` (default 1e4) where passgraph's run on:
+/// beyond twice the farthest vertex from the eye, so both see the whole scene (the outdoor
+/// showcase's ground reaches 2e4 away: with the default, Mitsuba's horizon showed sky where
+/// passgraph's showed ground).
+fn far_clip(scene: &Scene) -> String {
+    let eye = scene.camera.eye();
+    let farthest = scene
+        .mesh
+        .triangles
+        .iter()
+        .flat_map(|t| t.vertices)
+        .map(|v| v.distance(eye))
+        .fold(0.0f32, f32::max);
+    format!(
+        "<float name=\"far_clip\" value=\"{}\"/>\n",
+        (2.0 * farthest).max(1e4)
+    )
 }
 
 /// An orthographic sensor's plane spans x in [-1, 1] before to_world: scaled to half the width
@@ -809,6 +828,28 @@ mod tests {
                 "name=\"width\" value=\"64\"",
                 "<rfilter type=\"box\"/>",
             ],
+        );
+    }
+
+    #[test]
+    fn mitsubas_far_clip_lies_beyond_the_farthest_vertex() {
+        use crate::scene::MeshTriangle;
+        let options = ExportOptions {
+            size: [8, 8],
+            max_depth: None,
+        };
+        let mut s = scene(vec![Material::default()]);
+        // Mitsuba's default (1e4) where the scene is smaller.
+        assert_has(
+            &scene_xml(&s, &options, ""),
+            &["<float name=\"far_clip\" value=\"10000\"/>"],
+        );
+        // A ground 2e4 from the eye at (0, 0, 1).
+        let far = [Vec3::new(0.0, -1.0, -20001.0), Vec3::X, Vec3::Y];
+        s.mesh.triangles = vec![MeshTriangle::flat(far, 0)];
+        assert_has(
+            &scene_xml(&s, &options, ""),
+            &["<float name=\"far_clip\" value=\"40004\"/>"],
         );
     }
 
