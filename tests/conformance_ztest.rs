@@ -208,3 +208,25 @@ fn the_other_microfacet_distribution_fails() {
     let rough: Vec<String> = ROUGH.iter().map(|s| s.to_string()).collect();
     every_scene("beckmann <-> ggx", &rough, false, |f| read(f, "swapped"));
 }
+
+/// `check_scene`, the passgraph side's entry point, on Mitsuba's images: it returns on the
+/// independent render, and on a wrong one panics with the pass fraction and the map of failed
+/// pixels, having written the diagnostic images.
+#[test]
+fn check_scene_passes_and_fails_as_the_z_test() {
+    let feature = "diffuse_rgb";
+    let spp = scene_spp(feature);
+    let image = test_image(feature);
+    assert!(conformance::check_scene(feature, &image, spp).passed);
+    let wrong = brighter(&image);
+    let panic = std::panic::catch_unwind(|| conformance::check_scene(feature, &wrong, spp))
+        .expect_err("3 % brighter must fail");
+    let message = panic.downcast_ref::<String>().unwrap();
+    common::assert_mentions(
+        message,
+        &["diffuse_rgb: FAIL", "pass fraction", "error image"],
+    );
+    let error =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("conformance/diffuse_rgb-error.exr");
+    assert!(RgbImage::read_exr(&error).is_ok(), "{}", error.display());
+}
