@@ -55,6 +55,48 @@ fn a_beam_wider_than_the_cutoff_is_refused() {
 }
 
 #[test]
+fn a_spot_up_along_its_axis_or_zero_is_refused() {
+    for up in ["(0, 1, 0)", "(0, -3, 0)", "(0, 0, 0)"] {
+        assert_error(
+            &format!(
+                "    lights: [Spot(position: (0, 2, 0), target: (0, 0, 0), up: {up}, intensity: (1, 1, 1))],"
+            ),
+            4,
+            &["lights[0]", "up", "axis"],
+        );
+    }
+}
+
+#[test]
+fn a_spot_texture_that_is_missing_or_not_an_image_names_the_file() {
+    assert_error(
+        "    lights: [Spot(position: (0, 2, 0), target: (0, 0, 0), intensity: (1, 1, 1), texture: \"slide.png\")],",
+        4,
+        &["lights[0]", "texture", "slide.png"],
+    );
+    let (message, _path, _dir) = {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("mesh.obj"), QUAD).unwrap();
+        std::fs::write(dir.path().join("slide.png"), "not a PNG").unwrap();
+        let path = dir.path().join("scene.ron");
+        std::fs::write(
+            &path,
+            "Scene(\n    mesh: \"mesh.obj\",\n    camera: Camera(eye: (0, 0, -5), target: (0, 0, 0), up: (0, 1, 0), fov_y: 40),\n    lights: [Spot(position: (0, 2, 0), target: (0, 0, 0), intensity: (1, 1, 1), texture: \"slide.png\")],\n)\n",
+        )
+        .unwrap();
+        let message = load_scene(&path)
+            .err()
+            .expect("a text file is no image")
+            .to_string();
+        (message, path, dir)
+    };
+    assert!(
+        message.contains("slide.png") && message.contains("texture"),
+        "{message}"
+    );
+}
+
+#[test]
 fn nan_or_infinite_positions_are_refused() {
     assert_error(
         "    lights: [Point(position: (0, NaN, 0), intensity: (1, 1, 1))],",

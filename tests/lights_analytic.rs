@@ -6,7 +6,8 @@
 //!   jitter off each pixel is one exact evaluation, so the bound is f32 rounding (1e-4);
 //! - a directional light: rho / pi * E cos(theta), the same at every pixel;
 //! - a spot light: the point light times Mitsuba's falloff (1 inside the beam width, linear in
-//!   angle to 0 at the cutoff), pixel by pixel;
+//!   angle to 0 at the cutoff), pixel by pixel; with a texture, times Mitsuba's bitmap lookup
+//!   at the spot's uv in its lookat frame (an image of distinct texels, a non-default up);
 //! - the white furnace: a Lambertian convex polyhedron inside a uniform environment L reflects
 //!   rho L at every pixel (no facet sees another) and the background is L; the environment is
 //!   sampled uniformly on the sphere, so pixels are noisy: their mean is within 5 standard
@@ -194,6 +195,107 @@ fn a_spot_light_falls_off_as_mitsubas() {
         "spot",
     );
     assert!(partial > 20, "only {partial} pixels in the transition ring");
+}
+
+/// Mitsuba's bitmap lookup (src/textures/bitmap.cpp) of an sRGB image at Mitsuba's uv (v = 0
+/// at the top row): bilinear between texel centres, repeat wrap; written out here, not taken
+/// from passgraph's texture code.
+fn mitsuba_bitmap(rgb8: &[[u8; 3]], width: usize, height: usize, uv: glam::Vec2) -> Vec3 {
+    let decode = |c: u8| {
+        let c = f32::from(c) / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let texel = |x: i64, y: i64| {
+        let (x, y) = (
+            x.rem_euclid(width as i64) as usize,
+            y.rem_euclid(height as i64) as usize,
+        );
+        Vec3::from(rgb8[y * width + x].map(decode))
+    };
+    let p = uv * glam::Vec2::new(width as f32, height as f32) - 0.5;
+    let (i, f) = (p.floor(), p - p.floor());
+    let (x, y) = (i.x as i64, i.y as i64);
+    (texel(x, y) * (1.0 - f.x) + texel(x + 1, y) * f.x) * (1.0 - f.y)
+        + (texel(x, y + 1) * (1.0 - f.x) + texel(x + 1, y + 1) * f.x) * f.y
+}
+
+#[test]
+fn a_textured_spot_projects_its_image_in_mitsubas_lookat_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    // Every texel distinct, so a mirrored, swapped or rotated projection cannot pass.
+    let (w, h) = (4usize, 3usize);
+    let texels: Vec<[u8; 3]> = (0..w * h)
+        .map(|i| {
+            [
+                (40 + 17 * i) as u8,
+                (230 - 13 * i) as u8,
+                (90 + 29 * (i % 5)) as u8,
+            ]
+        })
+        .collect();
+    image::RgbImage::from_raw(
+        w as u32,
+        h as u32,
+        texels.iter().flatten().copied().collect(),
+    )
+    .unwrap()
+    .save(dir.path().join("slide.png"))
+    .unwrap();
+    let (light, target, up) = (
+        Vec3::new(0.3, 3.0, -0.2),
+        Vec3::new(-0.2, 0.0, 0.3),
+        Vec3::new(0.0, 0.0, 1.0),
+    );
+    let intensity = Vec3::new(40.0, 30.0, 20.0);
+    let scene = plane_scene(
+        dir.path(),
+        "    lights: [Spot(position: (0.3, 3, -0.2), target: (-0.2, 0, 0.3), up: (0, 0, 1), intensity: (40, 30, 20), cutoff_angle: 35, beam_width: 20, texture: \"slide.png\")],",
+    );
+    let img = render_exact(&scene);
+    // Mitsuba's Transform::look_at: x = normalize(up x dir), y = dir x x, z = dir.
+    let z = (target - light).normalize();
+    let x_axis = up.cross(z).normalize();
+    let y_axis = z.cross(x_axis);
+    let tan_cutoff = 35f32.to_radians().tan();
+    let mut seen = std::collections::HashSet::new();
+    assert_pixels(
+        &scene,
+        &img,
+        |p| {
+            let to = light - p;
+            let r2 = to.length_squared();
+            let d = -to.normalize();
+            let falloff = spot_falloff(z, d, 35.0, 20.0);
+            if falloff == 0.0 {
+                return (Vec3::ZERO, 0.0);
+            }
+            let local = Vec3::new(d.dot(x_axis), d.dot(y_axis), d.dot(z));
+            let uv = glam::Vec2::new(local.x, local.y) / (local.z * tan_cutoff) * 0.5 + 0.5;
+            seen.insert(((uv.x * w as f32) as i32, (uv.y * h as f32) as i32));
+            let full = intensity
+                * mitsuba_bitmap(&texels, w, h, uv)
+                * (RHO / std::f32::consts::PI)
+                * (to.y / r2.sqrt())
+                / r2;
+            // On the ramp: the light is seen from the shading point offset by 2^-16 along the
+            // normal (offset_ray near the origin), which turns the direction by up to
+            // 2^-16 / r rad, plus a few ulps of the angle (1e-6), over the ramp's 15 degrees.
+            // Everywhere: the uv's f32 rounding through the bilinear weights, a few ulps of uv
+            // (1e-7) times the texel steps (< 1) times the size (4).
+            let ramp = if falloff < 1.0 {
+                ((1.0 / 65536.0) / r2.sqrt() + 1e-6) / 15f32.to_radians()
+            } else {
+                0.0
+            };
+            (full * falloff, (ramp + 4e-6) * full.max_element())
+        },
+        "textured spot",
+    );
+    assert!(seen.len() >= 10, "the cone shows only texels {seen:?}");
 }
 
 fn sphere_obj(center: Vec3, radius: f32, material: &str, obj: &mut ObjWriter) {

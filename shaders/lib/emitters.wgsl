@@ -4,6 +4,8 @@
 //   point:       p0 position, e1 intensity
 //   spot:        p0 position, e1 intensity, e2 unit axis, second / first the cutoff angle / the
 //                beam width in radians (bit patterns)
+//   textured spot: as a spot, but e1 = (the texture's index as bits, (cos, sin) / tan(cutoff)):
+//                the lookat frame's x axis in spot_basis(e2); the texture holds intensity x image
 //   directional: e1 irradiance, e2 the unit direction the light travels
 // The includer includes scene.wgsl.
 #include "sampling.wgsl"
@@ -40,7 +42,38 @@ fn spot_falloff(light: Light, d: vec3<f32>) -> f32 {
     return (cutoff - angle) / (cutoff - beam);
 }
 
-// The sample of a point, spot or directional light from `origin`.
+// Whether a light of this kind has a spot's falloff.
+fn is_spot(kind: u32) -> bool {
+    return (scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT)
+        || (scene_has_light_kind(LIGHT_SPOT_TEXTURED) && kind == LIGHT_SPOT_TEXTURED);
+}
+
+// The orthonormal pair perpendicular to the unit n (Duff et al. 2017), as spot_basis in
+// src/scene/emitters.rs.
+fn spot_basis(n: vec3<f32>) -> array<vec3<f32>, 2> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return array<vec3<f32>, 2>(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+    );
+}
+
+// Where the unit direction d leaving a textured spot meets its image, as Mitsuba's spot
+// direction_to_uv (v = 0 at the top row), in texture_bilinear's convention (v = 0 at the
+// bottom row): hence 1 - v. The record's x axis comes divided by tan(cutoff) (lavapipe's tan
+// is off by ~1e-4, which moved the edge of the image by a quarter of a texel per thousand).
+fn spot_texture_uv(light: Light, d: vec3<f32>) -> vec2<f32> {
+    let basis = spot_basis(light.e2);
+    let x = light.e1.y * basis[0] + light.e1.z * basis[1];
+    let y = cross(light.e2, x);
+    let scale = 0.5 / dot(d, light.e2);
+    return vec2<f32>(0.5 + dot(d, x) * scale, 0.5 - dot(d, y) * scale);
+}
+
+// The sample of a point, spot or directional light from `origin`; a textured spot's value
+// still lacks its texture (nee.wgsl multiplies it in, where scene.textures is bound).
 fn sample_delta_light(light: Light, kind: u32, origin: vec3<f32>) -> EmitterSample {
     if scene_has_light_kind(LIGHT_DIRECTIONAL) && kind == LIGHT_DIRECTIONAL {
         return EmitterSample(-light.e2, light.e1, 0.0, vec3<f32>(0.0), true);
@@ -49,7 +82,10 @@ fn sample_delta_light(light: Light, kind: u32, origin: vec3<f32>) -> EmitterSamp
     let d2 = dot(to, to);
     let wi = to * inverseSqrt(d2);
     var value = light.e1 / d2;
-    if scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT {
+    if scene_has_light_kind(LIGHT_SPOT_TEXTURED) && kind == LIGHT_SPOT_TEXTURED {
+        value = vec3<f32>(1.0 / d2);
+    }
+    if is_spot(kind) {
         value *= spot_falloff(light, -wi);
     }
     return EmitterSample(wi, value, 0.0, light.p0, false);
@@ -67,7 +103,7 @@ fn delta_light_weight(light: Light, kind: u32, origin: vec3<f32>, n: vec3<f32>, 
     if dot(n, to) <= 0.0 || d2 <= 0.0 {
         return 0.0;
     }
-    if scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT && spot_falloff(light, -to * inverseSqrt(d2)) <= 0.0 {
+    if is_spot(kind) && spot_falloff(light, -to * inverseSqrt(d2)) <= 0.0 {
         return 0.0;
     }
     return w / d2;

@@ -1,7 +1,7 @@
 // Next-event estimation and its counterpart, BSDF-sampled rays that hit an emitter, weighted
 // against each other (mis.wgsl); shared by the direct and indirect channels. The including
 // shader declares `triangles`, `materials`, `lights`, `light_power`, `bvh` and `frame`, and
-// includes scene, rng, sampler, sampling, bsdf, mis, bvh, surface, shading_point,
+// includes scene, rng, sampler, sampling, bsdf, mis, bvh, surface, texture, shading_point,
 // light_sample and light_select.
 #include "emitters.wgsl"
 #include "environment.wgsl"
@@ -13,7 +13,7 @@ override light_selection: bool = false;
 // are the sampler pairs (sampler.wgsl) of the light choice and of the point on the light.
 fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select: u32, dim_light: u32) -> vec3<f32> {
     // Without light sampling only delta lights are sampled (light_contribution skips others).
-    let delta_lights = scene_has_light_kind(LIGHT_POINT) || scene_has_light_kind(LIGHT_SPOT) || scene_has_light_kind(LIGHT_DIRECTIONAL);
+    let delta_lights = scene_has_light_kind(LIGHT_POINT) || scene_has_light_kind(LIGHT_SPOT) || scene_has_light_kind(LIGHT_SPOT_TEXTURED) || scene_has_light_kind(LIGHT_DIRECTIONAL);
     if (!mis_uses_light() && !delta_lights) || bsdf_is_delta(p.b) {
         return vec3<f32>(0.0);
     }
@@ -28,7 +28,7 @@ fn direct_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_select
 fn light_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, i: u32, u: vec2<f32>, pmf: f32) -> vec3<f32> {
     let light = scene_light(lights, i);
     let kind = light_kind(light);
-    let delta = kind == LIGHT_POINT || kind == LIGHT_SPOT || kind == LIGHT_DIRECTIONAL;
+    let delta = kind == LIGHT_POINT || is_spot(kind) || kind == LIGHT_DIRECTIONAL;
     if !mis_uses_light() && !delta {
         return vec3<f32>(0.0);
     }
@@ -61,6 +61,10 @@ fn emitter_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, light
         e = environment_sample(light, u);
     } else {
         e = sample_delta_light(light, kind, origin);
+        if scene_has_light_kind(LIGHT_SPOT_TEXTURED) && kind == LIGHT_SPOT_TEXTURED && any(e.value > vec3<f32>(0.0)) {
+            // Only inside the cone: the uv of a direction outside it is meaningless.
+            e.value *= texture_bilinear(textures, bitcast<u32>(light.e1.x), spot_texture_uv(light, -e.wi)).rgb;
+        }
     }
     if dot(p.s.n, e.wi) <= 0.0 || all(e.value == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);

@@ -138,6 +138,7 @@ const LIGHT_SPOT: u32 = 2u;
 const LIGHT_DIRECTIONAL: u32 = 3u;
 const LIGHT_ENVIRONMENT_MAP: u32 = 4u;
 const LIGHT_ENVIRONMENT_CONSTANT: u32 = 5u;
+const LIGHT_SPOT_TEXTURED: u32 = 6u;
 
 fn light_kind(light: Light) -> u32 {
     if scene_area_lights_only() {

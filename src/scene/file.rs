@@ -35,6 +35,7 @@ use super::filter::PixelFilter;
 use super::gpu::DEFAULT_MAX_DEPTH;
 use super::mesh::MAX_COORDINATE;
 use super::mesh::{Mesh, load_mesh};
+use super::texture::{Encoding, Texture};
 use glam::{Mat3, Vec3};
 use serde::Deserialize;
 use serde::de::{self, Deserializer, Visitor};
@@ -91,6 +92,11 @@ enum LightFile {
         cutoff_angle: Option<Number>,
         /// Degrees; Mitsuba's default 3/4 of the cutoff angle.
         beam_width: Option<Number>,
+        /// The lookat frame's up (not along the axis), orienting `texture`; default +y, or +x
+        /// for an axis within 26 degrees of y.
+        up: Option<(Number, Number, Number)>,
+        /// An image (PNG, JPEG; sRGB) projected over the cone, as Mitsuba's spot `texture`.
+        texture: Option<PathBuf>,
     },
     Directional {
         direction: (Number, Number, Number),
@@ -394,7 +400,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         .iter()
         .enumerate()
         .map(|(k, light)| {
-            analytic_light(light).map_err(|message| SceneError::Syntax {
+            analytic_light(light, dir).map_err(|message| SceneError::Syntax {
                 at: Location {
                     line: nth_variant_line(&text, "lights", k).or(field_line(&text, "lights")),
                     ..at("lights")
@@ -452,7 +458,13 @@ fn colour(c: (Number, Number, Number), what: &str) -> Result<Vec3, String> {
     Ok(v)
 }
 
-fn analytic_light(light: &LightFile) -> Result<AnalyticLight, String> {
+/// The up a spot's frame takes when the file gives none: any not along the axis (the
+/// exporter writes it, so Mitsuba's frame is the same).
+pub fn default_spot_up(axis: Vec3) -> Vec3 {
+    if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::X }
+}
+
+fn analytic_light(light: &LightFile, dir: &Path) -> Result<AnalyticLight, String> {
     Ok(match *light {
         LightFile::Point {
             position,
@@ -467,6 +479,8 @@ fn analytic_light(light: &LightFile) -> Result<AnalyticLight, String> {
             intensity,
             cutoff_angle,
             beam_width,
+            up,
+            ref texture,
         } => {
             let position = finite_point(position, "position")?;
             let target = finite_point(target, "target")?;
@@ -485,12 +499,35 @@ fn analytic_light(light: &LightFile) -> Result<AnalyticLight, String> {
                     "beam_width is {beam} degrees; it must be in (0, cutoff_angle = {cutoff}]"
                 ));
             }
+            let axis = (target - position).normalize();
+            let up = match up {
+                None => default_spot_up(axis),
+                Some(u) => {
+                    let u = finite_point(u, "up")?;
+                    if u.cross(axis).length() <= 1e-6 * u.length() {
+                        return Err(format!(
+                            "up {u} is zero or along the spot's axis {axis}; it must not be"
+                        ));
+                    }
+                    u
+                }
+            };
+            let texture = texture
+                .as_ref()
+                .map(|file| {
+                    let path = dir.join(file);
+                    Texture::load(&path, Encoding::Srgb)
+                        .map_err(|e| format!("texture {}: {e}", path.display()))
+                })
+                .transpose()?;
             AnalyticLight::Spot {
                 position,
                 target,
+                up,
                 intensity: colour(intensity, "intensity")?,
                 cutoff_angle: cutoff,
                 beam_width: beam,
+                texture,
             }
         }
         LightFile::Directional {

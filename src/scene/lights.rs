@@ -21,6 +21,8 @@ pub const LIGHT_SPOT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
 pub const LIGHT_ENVIRONMENT_MAP: u32 = 4;
 pub const LIGHT_ENVIRONMENT_CONSTANT: u32 = 5;
+/// A spot with a projected texture (src/scene/emitters.rs has its record).
+pub const LIGHT_SPOT_TEXTURED: u32 = 6;
 
 /// One light as `shaders/lib/scene.wgsl` reads it (three texels): the points p0 + a e1 + b e2
 /// with a, b >= 0 and a + b <= 1 (a triangle) or a, b in [0, 1] (a parallelogram). The front

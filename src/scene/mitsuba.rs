@@ -52,7 +52,7 @@ pub fn export(scene: &Scene, dir: &Path, options: &ExportOptions) -> Result<Vec<
         written.push(path);
         shape_xml += &shape(scene, *material, file, has_normals, bsdf);
     }
-    let emitters = emitters_xml(scene);
+    let emitters = emitters_xml(scene)?;
     if let Some(Environment::Map(map)) = &scene.emitters.environment {
         let path = dir.join(ENVIRONMENT_FILE);
         crate::atomic_write::write_atomic(&path, &environment_exr(map)?)
@@ -94,7 +94,7 @@ fn point_xml(tag: &str, name: &str, v: Vec3) -> String {
 
 /// The scene's point, spot and directional lights and its environment as Mitsuba emitters (an
 /// environment image is read from [`ENVIRONMENT_FILE`] beside the XML).
-fn emitters_xml(scene: &Scene) -> String {
+fn emitters_xml(scene: &Scene) -> Result<String, String> {
     let mut xml = String::new();
     for light in &scene.emitters.lights {
         match *light {
@@ -112,16 +112,19 @@ fn emitters_xml(scene: &Scene) -> String {
             AnalyticLight::Spot {
                 position,
                 target,
+                up,
                 intensity,
                 cutoff_angle,
                 beam_width,
+                ref texture,
             } => {
-                // Any up not along the axis: the profile is symmetric about it.
-                let axis = (target - position).normalize();
-                let up = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+                let texture = match texture {
+                    None => String::new(),
+                    Some(t) => indent(&bitmap("texture", t, false, "spot light")?, 2),
+                };
                 let _ = write!(
                     xml,
-                    "    <emitter type=\"spot\">\n        <transform name=\"to_world\">\n            <lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>\n        </transform>\n        <rgb name=\"intensity\" value=\"{}\"/>\n        <float name=\"cutoff_angle\" value=\"{cutoff_angle}\"/>\n        <float name=\"beam_width\" value=\"{beam_width}\"/>\n    </emitter>\n",
+                    "    <emitter type=\"spot\">\n        <transform name=\"to_world\">\n            <lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>\n        </transform>\n        <rgb name=\"intensity\" value=\"{}\"/>\n        <float name=\"cutoff_angle\" value=\"{cutoff_angle}\"/>\n        <float name=\"beam_width\" value=\"{beam_width}\"/>\n{texture}    </emitter>\n",
                     rgb(position.into()),
                     rgb(target.into()),
                     rgb(up.into()),
@@ -169,7 +172,7 @@ fn emitters_xml(scene: &Scene) -> String {
             );
         }
     }
-    xml
+    Ok(xml)
 }
 
 /// The triangles of each used material, in file order, by material index.
@@ -582,9 +585,11 @@ mod tests {
                 AnalyticLight::Spot {
                     position: Vec3::ZERO,
                     target: Vec3::new(0.0, -1.0, 0.0),
+                    up: Vec3::X,
                     intensity: Vec3::ONE,
                     cutoff_angle: 30.0,
                     beam_width: 10.0,
+                    texture: None,
                 },
                 AnalyticLight::Directional {
                     direction: Vec3::new(0.0, -1.0, 0.0),
@@ -598,7 +603,7 @@ mod tests {
                 glam::Mat3::from_rotation_y(std::f32::consts::FRAC_PI_2),
             ))),
         };
-        let xml = emitters_xml(&s);
+        let xml = emitters_xml(&s).unwrap();
         assert_has(
             &xml,
             &[
