@@ -1,8 +1,8 @@
-//! Point, spot and directional lights and an HDR environment against Mitsuba 3, at 64x64,
-//! region by region (the pixels whose footprint sees one material, and those that see only the
-//! environment): the mean within 1 % per component and the RMSE at the noise floor
-//! (tests/common/reference.rs: this render's noise from a second seed, the reference's from its
-//! two independent halves, plus five standard errors). The scenes come from
+//! Point, spot (plain and projecting an image) and directional lights and an HDR environment
+//! against Mitsuba 3, at 64x64, region by region (the pixels whose footprint sees one material,
+//! and those that see only the environment): the mean within 1 % per component and the RMSE at
+//! the noise floor (tests/common/reference.rs: this render's noise from a second seed, the
+//! reference's from its two independent halves, plus five standard errors). The scenes come from
 //! scripts/make-lights-scenes; the references from scripts/mitsuba-reference
 //! (tests/data/references/README.md). Rendered with the default graph (graphs/pathtracer.ron)
 //! on the GPU (lavapipe in CI).
@@ -24,14 +24,22 @@ fn check(scene: &str, reference_name: &str, depth: u32, frames: u32, regions: &[
     common::copy_dir(source.parent().unwrap(), dir.path());
     let path = dir.path().join(source.file_name().unwrap());
     let text = std::fs::read_to_string(&path).unwrap();
-    // The environment image is found relative to the scene file: keep it reachable.
-    let text = text.replace(
-        "file: \"../../environment/",
-        &format!(
-            "file: \"{}/",
-            root().join("tests/data/environment").display()
-        ),
-    );
+    // Images are found relative to the scene file: keep them reachable.
+    let text = text
+        .replace(
+            "file: \"../../environment/",
+            &format!(
+                "file: \"{}/",
+                root().join("tests/data/environment").display()
+            ),
+        )
+        .replace(
+            "texture: \"../../textures/",
+            &format!(
+                "texture: \"{}/",
+                root().join("tests/data/textures").display()
+            ),
+        );
     let end = text.rfind(')').unwrap();
     std::fs::write(
         &path,
@@ -105,6 +113,17 @@ fn a_spot_light_matches_mitsuba() {
     check(
         "tests/data/scenes/lights/spot.ron",
         "lights-spot",
+        3,
+        128,
+        BLOCKS,
+    );
+}
+
+#[test]
+fn a_spot_light_projecting_an_image_matches_mitsuba() {
+    check(
+        "tests/data/scenes/lights/spot-texture.ron",
+        "lights-spot-texture",
         3,
         128,
         BLOCKS,
