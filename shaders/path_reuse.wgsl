@@ -159,7 +159,7 @@ fn main(
                     let x2 = shading_point(hit.triangle, hit.u, hit.v, d);
                     second[j] = vec4<f32>(x2.s.p, 1.0);
                     normal[j] = x2.s.n;
-                    light[j] = path_light(x2, d, sample_split(source, b, j));
+                    light[j] = path_light(x2, d, sample_split(source, b, j), vec3<f32>(1.0));
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! box whose walls all emit Le = 0.5 and reflect rho = 0.5), a path of k segments carries
 //! Le rho^(k-1), so the channels are L0 = Le (k = 1), direct = Le rho (k = 2) and
 //! indirect = Le (rho^2 + ... + rho^(max_depth - 1)): a geometric series that each depth must
-//! end exactly where it should. Run on the GPU (lavapipe in CI) with the seed's separate passes
+//! end exactly where it should; with Russian roulette, unbounded too. Run on the GPU (lavapipe in CI) with the seed's separate passes
 //! and the fused path pass.
 
 mod common;
@@ -16,6 +16,11 @@ const RHO: f64 = 0.5;
 
 /// The furnace scene with `max_depth: depth`, in a temporary directory.
 fn furnace(depth: u32) -> tempfile::TempDir {
+    furnace_with(&format!("max_depth: {depth},"))
+}
+
+/// The furnace scene with `fields` (e.g. `max_depth: -1, rr_depth: 5,`) after its mesh.
+fn furnace_with(fields: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let from = root().join("tests/data/furnace");
     for file in ["furnace.obj", "furnace.mtl"] {
@@ -24,7 +29,7 @@ fn furnace(depth: u32) -> tempfile::TempDir {
     let scene = std::fs::read_to_string(from.join("scene.ron")).unwrap();
     let scene = scene.replace(
         "mesh: \"furnace.obj\",",
-        &format!("mesh: \"furnace.obj\",\n    max_depth: {depth},"),
+        &format!("mesh: \"furnace.obj\",\n    {fields}"),
     );
     assert!(
         scene.contains("max_depth"),
@@ -54,17 +59,31 @@ fn expected(depth: u32) -> [(&'static str, f64); 3] {
 }
 
 fn check(graph: &str, depth: u32) {
-    let dir = furnace(depth);
+    check_channels(
+        graph,
+        &furnace(depth),
+        &format!("max_depth {depth}"),
+        expected(depth),
+    );
+}
+
+fn check_channels(
+    graph: &str,
+    dir: &tempfile::TempDir,
+    what: &str,
+    channels: [(&'static str, f64); 3],
+) {
     let scene = dir.path().join("scene.ron");
     let session = render(&settings(graph, &scene, 32, 1, &[]), 32);
-    for (channel, expected) in expected(depth) {
+    let depth = what;
+    for (channel, expected) in channels {
         let (mean, se) = mean_and_standard_error(&image(&session, channel));
         // Five standard errors (a false failure once in ~1.7 million), plus 1e-5 for f32
         // accumulation.
         let bound = 5.0 * se + 1e-5;
         assert!(
             (mean - expected).abs() < bound,
-            "{graph}, max_depth {depth}, {channel}: mean {mean}, expected {expected}, bound {bound}"
+            "{graph}, {depth}, {channel}: mean {mean}, expected {expected}, bound {bound}"
         );
     }
 }
@@ -81,6 +100,38 @@ fn the_fused_pass_follows_max_depth_too() {
     for depth in [2, 5] {
         check("graphs/pathtracer-fused.ron", depth);
     }
+}
+
+/// Russian roulette (Mitsuba's rr_depth) ends paths at random and reweights the survivors: the
+/// expectation stays the series' sum, to max_depth or, unbounded (-1), to its limit
+/// Le rho^2 / (1 - rho) in the indirect channel.
+#[test]
+fn russian_roulette_keeps_the_furnace_series_unbiased_to_any_depth() {
+    let unbounded = [
+        ("l0", LE),
+        ("direct", LE * RHO),
+        ("indirect", LE * RHO * RHO / (1.0 - RHO)),
+    ];
+    for (graph, rr) in [
+        ("graphs/pathtracer.ron", 1),
+        ("graphs/pathtracer.ron", 5),
+        ("graphs/pathtracer-fused.ron", 2),
+    ] {
+        let dir = furnace_with(&format!("max_depth: -1, rr_depth: {rr},"));
+        check_channels(
+            graph,
+            &dir,
+            &format!("max_depth -1, rr_depth {rr}"),
+            unbounded,
+        );
+    }
+    let dir = furnace_with("max_depth: 8, rr_depth: 2,");
+    check_channels(
+        "graphs/pathtracer.ron",
+        &dir,
+        "max_depth 8, rr_depth 2",
+        expected(8),
+    );
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! `max_depth`: the scene file's (Mitsuba's meaning, default 3) reaches the
 //! `scene_max_depth` override; `--max-depth` replaces it; 0 or negative is an error naming
-//! the scene file's line, or a usage error on the command line.
+//! the scene file's line, or a usage error on the command line; -1 is unbounded, with
+//! Russian roulette (`rr_depth`) only.
 
 use passgraph::render::session::RenderSettings;
 use passgraph::scene::load_scene;
@@ -38,6 +39,42 @@ fn zero_or_negative_names_the_scene_file_line() {
         assert!(message.contains(&at), "expected '{at}' in {message}");
         assert!(message.contains("max_depth"), "{message}");
     }
+}
+
+#[test]
+fn unbounded_is_minus_one_with_russian_roulette_and_an_error_without() {
+    let dir = scene("    max_depth: -1,\n    rr_depth: 5,\n");
+    let s = load_scene(&dir.path().join("scene.ron")).unwrap();
+    assert_eq!(
+        (s.max_depth, s.rr_depth),
+        (passgraph::scene::MAX_MAX_DEPTH, Some(5))
+    );
+    assert_eq!(s.to_gpu().rr_depth, 5);
+    for (fields, line, what) in [
+        ("    max_depth: -1,\n", 4, "needs Russian roulette"),
+        (
+            "    max_depth: 8,\n    rr_depth: 0,\n",
+            5,
+            "rr_depth must be 1",
+        ),
+        (
+            "    max_depth: 8,\n    rr_depth: -3,\n",
+            5,
+            "rr_depth must be 1",
+        ),
+    ] {
+        let dir = scene(fields);
+        let path = dir.path().join("scene.ron");
+        let message = load_scene(&path).unwrap_err().to_string();
+        let at = format!("{}:{line}", path.display());
+        assert!(message.contains(&at), "expected '{at}' in {message}");
+        assert!(message.contains(what), "{message}");
+    }
+    // Without rr_depth the scene has none, and its GPU form says so.
+    let dir = scene("    max_depth: 8,\n");
+    let s = load_scene(&dir.path().join("scene.ron")).unwrap();
+    assert_eq!(s.rr_depth, None);
+    assert_eq!(s.to_gpu().rr_depth, u32::MAX);
 }
 
 #[test]

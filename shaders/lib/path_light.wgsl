@@ -3,6 +3,22 @@
 // other by MIS, nee.wgsl), and the BSDF sample goes on while scene_max_depth allows. The
 // including shader declares what nee.wgsl needs and includes it.
 
+// Russian roulette after the k-th BSDF sample of a path, as Mitsuba's path integrator: from
+// the scene_rr_depth-th on, the path goes on with probability q = min(max(throughput), 0.95)
+// and its throughput is divided by q, so the estimate stays unbiased. The factor the
+// throughput takes: 0 (the path ends) or 1 / q. (Mitsuba's q also has the squared relative
+// IOR of the refractions so far; any q > 0 is unbiased, and passgraph tracks none.)
+fn russian_roulette(k: u32, throughput: vec3<f32>, source: SampleSource) -> f32 {
+    if scene_rr_depth == 0xffffffffu || k < scene_rr_depth {
+        return 1.0;
+    }
+    let q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+    if sample_1d(source, path_dim(k + 1u, PATH_DIM_RR)) >= q {
+        return 0.0;
+    }
+    return 1.0 / q;
+}
+
 // One bounce from the primary hit p in the direction the BSDF sample u picks, and the light
 // of every path of 3 to scene_max_depth segments that continues it.
 fn bounce_path(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, u: vec2<f32>) -> vec3<f32> {
@@ -10,17 +26,22 @@ fn bounce_path(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, u: vec2<f32
     if all(bs.weight == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
+    let weight = bs.weight * russian_roulette(1u, bs.weight, source);
+    if all(weight == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
     let hit = closest_hit(leaving(p.s, bs.wi), bs.wi, 0.0, 3.0e38);
     if hit.triangle == NO_HIT {
         return vec3<f32>(0.0);
     }
     let x = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
-    return bs.weight * path_light(x, bs.wi, source);
+    return weight * path_light(x, bs.wi, source, weight);
 }
 
 // The light leaving the first bounce's hit x back along -dir (x ends a path's second segment)
 // by every path of 3 to scene_max_depth segments through it, emission at x itself excluded.
-fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -> vec3<f32> {
+// `prefix`: the throughput of the path up to x, for Russian roulette's odds only.
+fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource, prefix: vec3<f32>) -> vec3<f32> {
     // Paths of 3 segments that end with a light sample from the first bounce's hit: the seed's
     // whole indirect channel. Peeled off the loop below: with max_depth 3 and light sampling
     // alone (a Lambertian scene) nothing else is traced, and straight-line code is 4 % faster
@@ -48,9 +69,14 @@ fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource) -
         if all(next.weight == vec3<f32>(0.0)) {
             break;
         }
+        throughput *= next.weight;
+        // The BSDF sample at x is the path's (depth - 1)-th.
+        throughput *= russian_roulette(depth - 1u, prefix * throughput, source);
+        if all(throughput == vec3<f32>(0.0)) {
+            break;
+        }
         let origin = leaving(x.s, next.wi);
         let hit = closest_hit(origin, next.wi, 0.0, 3.0e38);
-        throughput *= next.weight;
         if hit.triangle == NO_HIT {
             // The path of `depth` segments ends in the environment.
             sum += throughput * environment_weighted(x, next);

@@ -41,6 +41,8 @@ const PATH_DIM_SELECT: u32 = 0u;
 const PATH_DIM_BSDF: u32 = 1u;
 const PATH_DIM_LOBE: u32 = 2u;
 const PATH_DIM_LIGHT: u32 = 3u;
+// Russian roulette after the k-th BSDF sample: path_dim(k + 1, PATH_DIM_RR).
+const PATH_DIM_RR: u32 = 4u;
 
 const SAMPLER_INDEPENDENT: u32 = 0u;
 const SAMPLER_SOBOL: u32 = 1u;

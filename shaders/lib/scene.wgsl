@@ -14,6 +14,9 @@ override scene_material_kinds: u32 = 0xffffffffu;
 // The longest path in segments, as Mitsuba's max_depth: 1 emitters seen, 2 direct light,
 // 3 one bounce (the seed's model), ...
 override scene_max_depth: u32 = 3u;
+// Russian roulette from the scene_rr_depth-th BSDF sample of a path on (Mitsuba's rr_depth);
+// 0xffffffff: none (src/render/provided.rs).
+override scene_rr_depth: u32 = 0xffffffffu;
 // Whether a triangle has shading normals / texture coordinates in scene.shading
 // (lib/shading.wgsl), whether a used material has a texture map (lib/texture.wgsl), and
 // whether one can be cut out (opacity < 1 or map_d).

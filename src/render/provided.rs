@@ -166,6 +166,12 @@ const OVERRIDES: &[Override] = &[
         value: |gpu| f64::from(gpu.max_depth),
     },
     Override {
+        name: "scene_rr_depth",
+        ty: ParamType::U32,
+        what: "Russian roulette from this BSDF sample on, as Mitsuba's rr_depth (0xffffffff: none)",
+        value: |gpu| f64::from(gpu.rr_depth),
+    },
+    Override {
         name: "scene_has_shading_normals",
         ty: ParamType::Bool,
         what: "whether a triangle has shading normals (OBJ vn) in scene.shading",

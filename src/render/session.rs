@@ -565,6 +565,9 @@ pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneG
     let mut scene = load_scene(&settings.scene)?;
     if let Some(depth) = settings.max_depth {
         scene.max_depth = depth;
+        crate::scene::file::check_depths(depth, scene.rr_depth).map_err(|e| {
+            RenderError::Other(format!("--max-depth for {}: {e}", settings.scene.display()))
+        })?;
     }
     let gpu_scene = scene.to_gpu();
     Ok((scene, gpu_scene))

@@ -1,6 +1,6 @@
 //! The scene file (RON): which mesh to load, relative to the scene file, the camera and,
-//! optionally, the longest path (Mitsuba's `max_depth`, default 3) and the pixel filter
-//! (default `Box`).
+//! optionally, the longest path (Mitsuba's `max_depth`, default 3; -1 for unbounded), Russian
+//! roulette (Mitsuba's `rr_depth`, default none) and the pixel filter (default `Box`).
 //!
 //! ```ron
 //! Scene(
@@ -50,8 +50,12 @@ pub struct Scene {
     pub mesh: Mesh,
     pub camera: CameraDesc,
     /// The longest path in segments, as Mitsuba's `max_depth` (1: emitters seen directly,
-    /// 2: direct light, 3: one bounce, ...); at least 1.
+    /// 2: direct light, 3: one bounce, ...); at least 1; [`MAX_MAX_DEPTH`] for unbounded
+    /// (Mitsuba's -1), which needs `rr_depth`.
     pub max_depth: u32,
+    /// Russian roulette from this BSDF sample of a path on (Mitsuba's `rr_depth`); none if
+    /// `None` (the default, unlike Mitsuba's 5: the estimate is the same, the noise lower).
+    pub rr_depth: Option<u32>,
     /// Point, spot and directional lights and the environment.
     pub emitters: Emitters,
     /// The pixel filter (Box unless the file names one).
@@ -69,6 +73,8 @@ struct SceneFile {
     camera: CameraFile,
     #[serde(default = "default_max_depth")]
     max_depth: i64,
+    #[serde(default)]
+    rr_depth: Option<i64>,
     #[serde(default)]
     lights: Vec<LightFile>,
     #[serde(default)]
@@ -389,6 +395,19 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         },
         message,
     })?;
+    let rr_depth = file
+        .rr_depth
+        .map(check_rr_depth)
+        .transpose()
+        .and_then(|rr| check_depths(max_depth, rr).map(|()| rr))
+        .map_err(|message| SceneError::Syntax {
+            at: Location {
+                path: path.to_path_buf(),
+                line: field_line(&text, "rr_depth").or(field_line(&text, "max_depth")),
+                item: None,
+            },
+            message,
+        })?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let at = |field: &str| Location {
         path: path.to_path_buf(),
@@ -425,6 +444,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         mesh,
         camera,
         max_depth,
+        rr_depth,
         emitters: Emitters {
             lights,
             environment,
@@ -618,17 +638,43 @@ fn nth_variant_line(text: &str, field: &str, k: usize) -> Option<usize> {
     None
 }
 
-/// The largest `max_depth`: Mitsuba's is an `int`.
+/// The largest `max_depth`: Mitsuba's is an `int`. It also stands for Mitsuba's -1, unbounded:
+/// no path of 2^31 segments is ever traced.
 pub const MAX_MAX_DEPTH: u32 = i32::MAX as u32;
 
-/// A `max_depth` as written (scene file or command line): 1..=[`MAX_MAX_DEPTH`].
+/// A `max_depth` as written (scene file or command line): 1..=[`MAX_MAX_DEPTH`], or -1 for
+/// unbounded (as Mitsuba), which is [`MAX_MAX_DEPTH`].
 pub fn check_max_depth(depth: i64) -> Result<u32, String> {
     match u32::try_from(depth) {
         Ok(d) if (1..=MAX_MAX_DEPTH).contains(&d) => Ok(d),
+        _ if depth == -1 => Ok(MAX_MAX_DEPTH),
         _ => Err(format!(
-            "max_depth must be 1 (emitters seen directly) to {MAX_MAX_DEPTH}, found {depth}"
+            "max_depth must be 1 (emitters seen directly) to {MAX_MAX_DEPTH}, or -1 for unbounded, found {depth}"
         )),
     }
+}
+
+/// An `rr_depth` as written: 1..=[`MAX_MAX_DEPTH`] (1: Russian roulette from the first BSDF
+/// sample on).
+pub fn check_rr_depth(depth: i64) -> Result<u32, String> {
+    match u32::try_from(depth) {
+        Ok(d) if (1..=MAX_MAX_DEPTH).contains(&d) => Ok(d),
+        _ => Err(format!(
+            "rr_depth must be 1 (Russian roulette from the first bounce on) to {MAX_MAX_DEPTH}, found {depth}"
+        )),
+    }
+}
+
+/// An unbounded depth needs Russian roulette to end its paths (in a closed scene nothing else
+/// would).
+pub fn check_depths(max_depth: u32, rr_depth: Option<u32>) -> Result<(), String> {
+    if max_depth == MAX_MAX_DEPTH && rr_depth.is_none_or(|rr| rr >= MAX_MAX_DEPTH) {
+        return Err(
+            "max_depth -1 (unbounded) needs Russian roulette: give rr_depth (Mitsuba's default is 5)"
+                .into(),
+        );
+    }
+    Ok(())
 }
 
 /// The line of the first `field:` in RON text (serde keeps no positions once parsed). Comments

@@ -103,6 +103,9 @@ pub const MATERIAL_DIELECTRIC: u32 = 4;
 /// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
 pub const DEFAULT_MAX_DEPTH: u32 = 3;
 
+/// The `scene_rr_depth` of a scene without Russian roulette.
+pub const NO_RUSSIAN_ROULETTE: u32 = u32::MAX;
+
 /// A triangle's `light` when it is not part of one.
 pub const NO_LIGHT: u32 = u32::MAX;
 
@@ -364,6 +367,9 @@ pub struct SceneGpu {
     pub material_kinds: u32,
     /// The longest path in segments (Mitsuba's `max_depth`): the `scene_max_depth` override.
     pub max_depth: u32,
+    /// Russian roulette from this BSDF sample on (Mitsuba's `rr_depth`), [`NO_RUSSIAN_ROULETTE`]
+    /// for none: the `scene_rr_depth` override.
+    pub rr_depth: u32,
     /// The camera's projection (`CameraKind` as u32): the `scene_camera_kind` override.
     pub camera_kind: u32,
     /// The pixel filter (`filter::FILTER_*`) and its stddev or radius: the `scene_filter` and
@@ -466,6 +472,7 @@ impl SceneGpu {
             environment_table: Vec::new(),
             material_kinds,
             max_depth: DEFAULT_MAX_DEPTH,
+            rr_depth: NO_RUSSIAN_ROULETTE,
             camera_kind: 0,
             filter: 0,
             filter_size: 0.0,
@@ -548,6 +555,7 @@ impl Scene {
             .collect();
         let mut gpu = SceneGpu {
             max_depth: self.max_depth,
+            rr_depth: self.rr_depth.unwrap_or(NO_RUSSIAN_ROULETTE),
             camera_kind: self.camera.kind() as u32,
             filter: self.filter.kind(),
             filter_size: self.filter.size(),

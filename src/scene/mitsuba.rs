@@ -9,7 +9,7 @@
 use super::camera::{CameraDesc, CameraKind, Projection};
 use super::emitters::AnalyticLight;
 use super::environment::{Environment, EnvironmentMap};
-use super::file::Scene;
+use super::file::{MAX_MAX_DEPTH, Scene};
 use super::filter::PixelFilter;
 use super::gpu::{
     MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
@@ -253,6 +253,19 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
     let c = &scene.camera;
     let [w, h] = options.size;
     let depth = options.max_depth.unwrap_or(scene.max_depth);
+    // Unbounded is Mitsuba's -1.
+    let depth = if depth == MAX_MAX_DEPTH {
+        -1
+    } else {
+        i64::from(depth)
+    };
+    let (rr_comment, rr_depth) = match scene.rr_depth {
+        Some(rr) => ("Russian roulette as the passgraph scene's rr_depth.", rr),
+        None => (
+            "No Russian roulette, as the passgraph scene.",
+            MAX_MAX_DEPTH,
+        ),
+    };
     format!(
         r#"<?xml version="1.0" encoding="utf-8"?>
 <!-- {source}, written by `passgraph mitsuba-scene`. -->
@@ -263,8 +276,8 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
     <default name="seed" value="0"/>
     <integrator type="path">
         <integer name="max_depth" value="$max_depth"/>
-        <!-- No Russian roulette: passgraph has none. -->
-        <integer name="rr_depth" value="1000"/>
+        <!-- {rr_comment} -->
+        <integer name="rr_depth" value="{rr_depth}"/>
     </integrator>
     <sensor type="{sensor}">
 {projection}        <transform name="to_world">
@@ -564,6 +577,7 @@ mod tests {
             },
             camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),
             max_depth: 3,
+            rr_depth: None,
             emitters: Default::default(),
             filter: PixelFilter::Box,
         }
@@ -827,7 +841,7 @@ mod tests {
                 "<default name=\"spp\" value=\"4\"/>",
                 "<default name=\"max_depth\" value=\"8\"/>",
                 "<sampler type=\"$sampler_type\">",
-                "name=\"rr_depth\" value=\"1000\"",
+                "name=\"rr_depth\" value=\"2147483647\"",
                 "<lookat origin=\"0, 0, 1\" target=\"0, 0, 0\" up=\"0, 1, 0\"/>",
                 "name=\"fov\" value=\"40\"",
                 "name=\"width\" value=\"64\"",
