@@ -1,5 +1,6 @@
 //! A bounded mutation fuzzer over the shipped inputs (CI's fuzz step, see .ci/run): graphs
-//! (which extend and include each other), graph tests, pass files, shaders and their includes, scenes, OBJ/MTL and PLY meshes (ASCII and binary),
+//! (which extend and include each other), graph tests, pass files, shaders and their includes,
+//! scenes (RON, and Mitsuba XML through its loader), OBJ/MTL and PLY meshes (ASCII and binary),
 //! camera paths and viewer scripts; a textured scene (PBR, glass and cut-out MTL keys, PNG
 //! maps, vt/vn, max_depth). Each case mutates one file of a fresh scratch copy, then
 //! runs what `check` and the loaders run (no GPU): load and compile the graph, check the render
@@ -538,6 +539,7 @@ fn main() {
         };
         let scene_dir = case_dir.join(rel.parent().unwrap_or(Path::new("")));
         let scene = if name.ends_with("scene.ron")
+            || name.ends_with(".xml")
             || name.ends_with("ply.ron")
             || name.ends_with("binary.ron")
             || name.ends_with("tex.ron")
