@@ -15,6 +15,9 @@
 
 #include "fresnel.wgsl"
 #include "ggx.wgsl"
+#include "erf.wgsl"
+#include "beckmann.wgsl"
+#include "microfacet.wgsl"
 #include "bsdf_lambert.wgsl"
 #include "bsdf_phong.wgsl"
 #include "bsdf_conductor.wgsl"
@@ -27,13 +30,19 @@ struct Bsdf {
     kd: vec3<f32>,
     ks: vec3<f32>,
     ns: f32,
-    // GGX alpha; 0: smooth (delta).
+    // Microfacet alpha; 0: smooth (delta).
     alpha: f32,
     ior: f32,
     tf: vec3<f32>,
     // The texel index in `materials` of the rough plastic's tables, or NO_TABLE (every other
     // model, smooth plastic).
     table: u32,
+    // The rough lobes' distribution (DISTRIBUTION_*: lib/microfacet.wgsl); the conductor's
+    // Fresnel term (FRESNEL_NONE, FRESNEL_CONDUCTOR) and complex index eta + i k.
+    distribution: u32,
+    fresnel: u32,
+    eta: vec3<f32>,
+    k: vec3<f32>,
 }
 
 struct BsdfSample {
@@ -44,7 +53,8 @@ struct BsdfSample {
 }
 
 fn bsdf_from_material(m: Material) -> Bsdf {
-    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf, m.table);
+    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf, m.table, m.distribution,
+        m.fresnel, m.eta, m.k);
 }
 
 // The world-to-local rotation: local = v * frame (rows of the transpose are the axes).

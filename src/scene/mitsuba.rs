@@ -12,8 +12,8 @@ use super::environment::{Environment, EnvironmentMap};
 use super::file::Scene;
 use super::filter::PixelFilter;
 use super::gpu::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+    Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
 use super::mesh::MeshTriangle;
 use super::texture::Texture;
@@ -366,12 +366,28 @@ fn film_filter(filter: PixelFilter) -> String {
     xml
 }
 
+/// A conductor's Fresnel term as Mitsuba's parameters: its complex index as `eta` and `k`
+/// (RGB), or `material none` (Fresnel 1).
+fn conductor_ior(m: &Material) -> String {
+    if m.fresnel == FRESNEL_CONDUCTOR {
+        format!(
+            "<rgb name=\"eta\" value=\"{}\"/>\n<rgb name=\"k\" value=\"{}\"/>\n",
+            rgb(m.eta),
+            rgb(m.k)
+        )
+    } else {
+        "<string name=\"material\" value=\"none\"/>\n".to_string()
+    }
+}
+
 /// The BSDF of material `index` as Mitsuba XML:
 ///
 /// - Lambert: `twosided` + `diffuse`.
-/// - Conductor: `twosided` + `roughconductor` (GGX, `material none`, Fresnel = kd), or
-///   `conductor` when smooth.
-/// - Plastic: `twosided` + `roughplastic` (GGX, `nonlinear false`), or `plastic` when smooth.
+/// - Conductor: `twosided` + `roughconductor` (`material none`, Fresnel = kd, or `eta` and
+///   `k` with `specular_reflectance` kd), or `conductor` when smooth.
+/// - Plastic: `twosided` + `roughplastic` (`nonlinear false`), or `plastic` when smooth.
+///
+/// Rough models name their `distribution` (ggx or beckmann) and `alpha`.
 /// - Dielectric: `roughdielectric`, or `dielectric` when smooth; one-sided, as passgraph's.
 /// - Phong: an error (Mitsuba 3 has no Blinn-Phong).
 ///
@@ -397,10 +413,11 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
             "material '{name}' has a roughness map (map_Pr), which Mitsuba 3 cannot square into its GGX alpha"
         ));
     }
-    let ggx = |smooth: &str, rough: &str, body: String| {
+    let distribution = Distribution::from_u32(m.distribution).mitsuba_name();
+    let microfacet = |smooth: &str, rough: &str, body: String| {
         if m.alpha > 0.0 {
             format!(
-                "<bsdf type=\"{rough}\">\n    <string name=\"distribution\" value=\"ggx\"/>\n    <float name=\"alpha\" value=\"{}\"/>\n{}</bsdf>\n",
+                "<bsdf type=\"{rough}\">\n    <string name=\"distribution\" value=\"{distribution}\"/>\n    <float name=\"alpha\" value=\"{}\"/>\n{}</bsdf>\n",
                 m.alpha,
                 indent(&body, 1)
             )
@@ -448,15 +465,16 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
             "<bsdf type=\"diffuse\">\n{}</bsdf>\n",
             indent(&colour("reflectance", m.kd, m.map_kd)?, 1)
         ))?),
-        MATERIAL_CONDUCTOR => twosided(mapped(ggx(
+        MATERIAL_CONDUCTOR => twosided(mapped(microfacet(
             "conductor",
             "roughconductor",
             format!(
-                "<string name=\"material\" value=\"none\"/>\n{}",
+                "{}{}",
+                conductor_ior(&m),
                 colour("specular_reflectance", m.kd, m.map_kd)?
             ),
         ))?),
-        MATERIAL_PLASTIC => twosided(mapped(ggx(
+        MATERIAL_PLASTIC => twosided(mapped(microfacet(
             "plastic",
             "roughplastic",
             format!(
@@ -466,7 +484,7 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 colour("specular_reflectance", m.ks, m.map_ks)?
             ),
         ))?),
-        MATERIAL_DIELECTRIC => mapped(ggx(
+        MATERIAL_DIELECTRIC => mapped(microfacet(
             "dielectric",
             "roughdielectric",
             format!(
