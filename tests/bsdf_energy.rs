@@ -11,7 +11,7 @@ use passgraph::bsdf::frame::basis;
 use passgraph::bsdf::{eval, is_delta, pdf, sample};
 use passgraph::scene::{
     Distribution, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
-    MATERIAL_PHONG, MATERIAL_PLASTIC,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
 };
 
 const SAMPLES: usize = 200_000;
@@ -81,7 +81,8 @@ fn quadrature(case: &Case, as_sampled: bool) -> (f64, f64) {
 }
 
 /// The model loses no energy at all with white parameters (each sample's weight is 1): Lambert,
-/// the smooth mirror and the smooth dielectric with its radiance scaling undone.
+/// the smooth mirror, the smooth dielectric with its radiance scaling undone, and the thin
+/// dielectric (R' + (1 - R') = 1).
 fn conserves_exactly(case: &Case) -> bool {
     let b = &case.bsdf;
     // A complex-index conductor absorbs by physics (its Fresnel term is below 1).
@@ -89,6 +90,7 @@ fn conserves_exactly(case: &Case) -> bool {
         return false;
     }
     b.kind == MATERIAL_LAMBERT
+        || b.kind == MATERIAL_THIN_DIELECTRIC
         || (b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC))
 }
 

@@ -190,3 +190,64 @@ fn rough_plastic_tables_match_mitsuba_3() {
     assert!(count >= 12 * 63, "the whole table");
     println!("{count} table values, largest relative difference {worst:e}");
 }
+
+/// Fails when the thin dielectric departs from Mitsuba 3's thindielectric
+/// (tests/data/bsdf/mitsuba_thin.txt: its sample at u_lobe 0, the reflection, and 1 - 1e-6, the
+/// transmission, from four incidences at two indices): the interreflected reflectance 2R / (1 +
+/// R) as the reflection's probability, the straight-through direction, the tint on the
+/// transmission alone. Bound: the same f32 expressions in another order, 1e-5 relative.
+#[test]
+fn thin_dielectric_samples_match_mitsuba_3() {
+    use passgraph::bsdf::sample;
+    use passgraph::scene::MATERIAL_THIN_DIELECTRIC;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bsdf/mitsuba_thin.txt");
+    let text = std::fs::read_to_string(&path).expect("the Mitsuba thin table");
+    let mut count = 0;
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let v: Vec<f32> = line
+            .split_whitespace()
+            .map(|f| f.parse().expect("a number"))
+            .collect();
+        let v3 = |i: usize| Vec3::new(v[i], v[i + 1], v[i + 2]);
+        let (ior, u_lobe, wo) = (v[0], v[2], v3(3));
+        let tf = Vec3::new(0.95, 0.9, 0.8);
+        let b = bsdf_with(
+            Distribution::Ggx,
+            MATERIAL_THIN_DIELECTRIC,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            0.0,
+            0.0,
+            ior,
+            tf,
+        );
+        let s = sample(&b, Vec3::Z, true, wo, glam::Vec2::splat(0.5), u_lobe);
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-7;
+        assert!(s.delta, "a delta lobe");
+        assert!(
+            (s.wi - v3(6)).length() < 1e-6,
+            "ior {ior}: wi {} but Mitsuba {}",
+            s.wi,
+            v3(6)
+        );
+        for k in 0..3 {
+            assert!(
+                close(s.weight[k], v[9 + k]),
+                "ior {ior}: weight {} but Mitsuba {}",
+                s.weight,
+                v3(9)
+            );
+        }
+        assert!(
+            close(s.pdf, v[12]),
+            "ior {ior} wo {wo}: pdf {} but Mitsuba {}",
+            s.pdf,
+            v[12]
+        );
+        count += 1;
+    }
+    assert_eq!(count, 16, "the whole table");
+}

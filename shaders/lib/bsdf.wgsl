@@ -10,7 +10,8 @@
 // surface's front side (only the dielectric reads it). eval is f |n.wi| of the non-delta lobes.
 // A sample's weight is f |n.wi| / pdf (0 when the sample fails, its pdf then 0 too). A delta
 // sample (delta true) has pdf = the probability of having chosen that delta lobe (1 for the
-// smooth conductor, the lobe probability for smooth plastic and dielectric); its weight already
+// smooth conductor, the lobe probability for smooth plastic, dielectric and thin dielectric);
+// its weight already
 // divides by it. The dielectric's transmission carries radiance transport's eta_ti^2.
 
 #include "fresnel.wgsl"
@@ -23,6 +24,7 @@
 #include "bsdf_conductor.wgsl"
 #include "bsdf_plastic.wgsl"
 #include "bsdf_dielectric.wgsl"
+#include "bsdf_thin_dielectric.wgsl"
 
 // A material at one shading point, textures already applied.
 struct Bsdf {
@@ -119,6 +121,8 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
         s = plastic_sample(b, wo * frame, u, u_lobe);
     } else if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
         s = dielectric_sample(b, outside, wo * frame, u, u_lobe);
+    } else if scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC {
+        s = thin_dielectric_sample(b, wo * frame, u_lobe);
     } else {
         return s;
     }
@@ -126,10 +130,11 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
     return s;
 }
 
-// True when every lobe is delta (smooth conductor, smooth dielectric): light sampling cannot
-// contribute, so the shadow ray can be skipped.
+// True when every lobe is delta (smooth conductor, smooth dielectric, thin dielectric): light
+// sampling cannot contribute, so the shadow ray can be skipped.
 fn bsdf_is_delta(b: Bsdf) -> bool {
-    return b.alpha == 0.0
+    return (b.alpha == 0.0
         && ((scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR)
-            || (scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC));
+            || (scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC)))
+        || (scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC);
 }

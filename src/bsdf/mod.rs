@@ -19,10 +19,11 @@ pub mod microfacet;
 pub mod phong;
 pub mod plastic;
 pub mod plastic_tables;
+pub mod thin_dielectric;
 
 use crate::scene::gpu::{
     Distribution, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG,
-    MATERIAL_PLASTIC, Material,
+    MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material,
 };
 use crate::scene::material_tables::NO_TABLE;
 use frame::{basis, to_local};
@@ -135,13 +136,15 @@ pub fn sample(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) 
         MATERIAL_CONDUCTOR => conductor::sample(b, local, u),
         MATERIAL_PLASTIC => plastic::sample(b, local, u, u_lobe),
         MATERIAL_DIELECTRIC => dielectric::sample(b, outside, local, u, u_lobe),
+        MATERIAL_THIN_DIELECTRIC => thin_dielectric::sample(b, local, u_lobe),
         _ => return Sample::failed(n),
     };
     s.wi = frame * s.wi;
     s
 }
 
-/// True when every lobe is delta (smooth conductor, smooth dielectric).
+/// True when every lobe is delta (smooth conductor, smooth dielectric, thin dielectric).
 pub fn is_delta(b: &Bsdf) -> bool {
-    b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC)
+    (b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC))
+        || b.kind == MATERIAL_THIN_DIELECTRIC
 }

@@ -43,6 +43,8 @@ pub struct Triangle {
 ///   `fresnel` [`FRESNEL_CONDUCTOR`] kd times the complex-index Fresnel of `eta` + i `k`.
 /// - Plastic: diffuse kd under a dielectric microfacet coat of index `ior`, specular tint ks.
 /// - Dielectric: one-sided glass of index `ior` (the front face is outside), transmittance tf.
+/// - Thin dielectric: a two-sided sheet of index `ior`, reflecting 2R / (1 + R) and passing the
+///   rest straight through tinted tf (always smooth).
 ///
 /// The rough models' microfacets follow `distribution` ([`Distribution`]: GGX by default).
 ///
@@ -158,6 +160,7 @@ pub const MATERIAL_PHONG: u32 = 1;
 pub const MATERIAL_CONDUCTOR: u32 = 2;
 pub const MATERIAL_PLASTIC: u32 = 3;
 pub const MATERIAL_DIELECTRIC: u32 = 4;
+pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
 
 /// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
 pub const DEFAULT_MAX_DEPTH: u32 = 3;
@@ -334,6 +337,17 @@ impl Material {
             m.fresnel = FRESNEL_CONDUCTOR;
         }
         m
+    }
+
+    /// A thin dielectric sheet (Mitsuba's `thindielectric`) of index `ior` relative to outside
+    /// (Mitsuba's int_ior / ext_ior), its transmission tinted `specular_transmittance`.
+    pub fn thin_dielectric(ior: f32, specular_transmittance: [f32; 3]) -> Material {
+        Material {
+            kind: MATERIAL_THIN_DIELECTRIC,
+            ior,
+            tf: specular_transmittance,
+            ..Material::DEFAULT
+        }
     }
 
     /// The same material with its rough lobes' microfacets from `distribution`.

@@ -13,7 +13,8 @@ use super::file::Scene;
 use super::filter::PixelFilter;
 use super::gpu::{
     Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
-    MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
+    SURFACE_MAP_BUMP,
 };
 use super::mesh::MeshTriangle;
 use super::texture::Texture;
@@ -389,6 +390,7 @@ fn conductor_ior(m: &Material) -> String {
 ///
 /// Rough models name their `distribution` (ggx or beckmann) and `alpha`.
 /// - Dielectric: `roughdielectric`, or `dielectric` when smooth; one-sided, as passgraph's.
+/// - Thin dielectric: `thindielectric` (two-sided by itself).
 /// - Phong: an error (Mitsuba 3 has no Blinn-Phong).
 ///
 /// Colour maps are `bitmap` textures (sRGB), `map_d` a raw one under a `mask`; `ext_ior` is
@@ -492,6 +494,18 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 ior(&m),
                 rgb(m.tf)
             ),
+        ))?,
+        // Two-sided by itself, as passgraph's.
+        MATERIAL_THIN_DIELECTRIC => mapped(format!(
+            "<bsdf type=\"thindielectric\">\n{}</bsdf>\n",
+            indent(
+                &format!(
+                    "{}<rgb name=\"specular_transmittance\" value=\"{}\"/>\n",
+                    ior(&m),
+                    rgb(m.tf)
+                ),
+                1
+            )
         ))?,
         MATERIAL_PHONG => {
             return Err(format!(
@@ -696,6 +710,53 @@ mod tests {
         .unwrap();
         assert_has(&xml, &["type=\"conductor\""]);
         assert!(!xml.contains("alpha"), "{xml}");
+    }
+
+    /// Fails when a Beckmann material is written as GGX (Mitsuba would render the other
+    /// distribution) or a complex-index conductor loses its eta and k.
+    #[test]
+    fn beckmann_and_complex_index_conductors_are_written_as_such() {
+        let (eta, k) = crate::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+        let gold = Material::conductor([1.0; 3], 0.2, Distribution::Beckmann, Some((eta, k)));
+        let xml = bsdf(gold).unwrap();
+        assert_has(
+            &xml,
+            &[
+                "roughconductor",
+                "name=\"distribution\" value=\"beckmann\"",
+                "name=\"alpha\" value=\"0.2\"",
+                &format!("name=\"eta\" value=\"{}, {}, {}\"", eta.x, eta.y, eta.z),
+                &format!("name=\"k\" value=\"{}, {}, {}\"", k.x, k.y, k.z),
+                "name=\"specular_reflectance\" value=\"1, 1, 1\"",
+            ],
+        );
+        assert!(!xml.contains("\"none\""), "{xml}");
+        let smooth = bsdf(Material { alpha: 0.0, ..gold }).unwrap();
+        assert_has(&smooth, &["type=\"conductor\"", "name=\"eta\""]);
+        for kind in [MATERIAL_PLASTIC, MATERIAL_DIELECTRIC] {
+            let m = Material {
+                kind,
+                alpha: 0.1,
+                ..Material::DEFAULT
+            }
+            .with_distribution(Distribution::Beckmann);
+            assert_has(&bsdf(m).unwrap(), &["value=\"beckmann\""]);
+        }
+    }
+
+    #[test]
+    fn thin_dielectrics_are_mitsubas_thindielectric() {
+        let xml = bsdf(Material::thin_dielectric(1.33, [0.9, 1.0, 1.0])).unwrap();
+        assert!(!xml.contains("twosided"), "{xml}");
+        assert_has(
+            &xml,
+            &[
+                "type=\"thindielectric\"",
+                "name=\"int_ior\" value=\"1.33\"",
+                "name=\"ext_ior\" value=\"1.0\"",
+                "name=\"specular_transmittance\" value=\"0.9, 1, 1\"",
+            ],
+        );
     }
 
     #[test]

@@ -12,7 +12,8 @@
 use super::error::{Location, SceneError};
 use super::gpu::{
     Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
-    MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
+    SURFACE_MAP_BUMP,
 };
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use super::texture::{Encoding, Texture};
@@ -97,6 +98,8 @@ struct MtlExtras {
     conductor_ior: Option<(Vec3, Vec3)>,
     eta: Option<[f32; 3]>,
     k: Option<[f32; 3]>,
+    /// `thin 1`: glass is a thin sheet (Mitsuba's `thindielectric`).
+    thin: bool,
 }
 
 /// A material's normal map (`norm`) or bump map (`map_Bump`, `bump`) and where it was given.
@@ -616,6 +619,20 @@ fn check_mtl(
                     }
                 });
             }
+            "thin" => {
+                let thin = match rest {
+                    "0" => false,
+                    "1" => true,
+                    _ => {
+                        return Err(syntax(
+                            path,
+                            number,
+                            format!("thin must be 0 or 1 (a thin sheet of glass), found '{rest}'"),
+                        ));
+                    }
+                };
+                set(&mut |e| e.thin = thin);
+            }
             "conductor" => {
                 let Some((eta, k)) = conductor_preset(rest) else {
                     let names: Vec<&str> = CONDUCTOR_PRESETS.iter().map(|p| p.0).collect();
@@ -912,7 +929,8 @@ fn roughness(m: &tobj::Material, extras: &MtlExtras) -> f32 {
 /// MTL values to the renderer's material. Missing values: Kd 0.8 (as for faces without a
 /// material), Ks 0, Ns 0, Ke 0, Ni 1.5, Tf 1, d 1.
 ///
-/// The kind: `illum` 4, 6 or 7, or a `Tf`: dielectric (glass). Else `Pm` or `Pr` (the PBR
+/// The kind: `illum` 4, 6 or 7, or a `Tf`: dielectric (glass), with `thin 1` a thin sheet
+/// (smooth: `Pr` does not apply). Else `Pm` or `Pr` (the PBR
 /// keys): a conductor when Pm >= 0.5 (Fresnel = Kd, or Kd times the complex-index Fresnel of
 /// `eta`/`k` or of a `conductor NAME` preset), plastic otherwise (diffuse Kd, specular tint Ks,
 /// 1 when absent). Else the seed's models: Phong when Ks > 0, Lambert otherwise. `distribution`
@@ -952,7 +970,10 @@ fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
         bump_scale: extras.surface_map.as_ref().map_or(1.0, |s| s.bump_scale),
         ..Material::default()
     };
-    if glass {
+    if glass && extras.thin {
+        // Mitsuba's thindielectric is smooth only.
+        material.kind = MATERIAL_THIN_DIELECTRIC;
+    } else if glass {
         material.kind = MATERIAL_DIELECTRIC;
         material.alpha = r * r;
     } else if pbr {
