@@ -29,6 +29,7 @@ fn materials(cases: &[Case]) -> Materials {
             kind: c.bsdf.kind,
             alpha: c.bsdf.alpha,
             ior: c.bsdf.ior,
+            distribution: c.bsdf.distribution as u32,
             ..Material::DEFAULT
         })
         .collect();
@@ -58,6 +59,8 @@ struct Query {
     wo_outside: [f32; 4],
     wi: [f32; 4],
     u: [f32; 4],
+    eta_distribution: [f32; 4],
+    k_fresnel: [f32; 4],
 }
 
 /// Matches `Answer` in bsdf_probe.wgsl.
@@ -96,6 +99,13 @@ fn query(case: &Case, table: u32, wi: Vec3, u: Vec2, u_lobe: f32) -> Query {
         ],
         wi: [wi.x, wi.y, wi.z, 0.0],
         u: [u.x, u.y, u_lobe, f32::from_bits(table)],
+        eta_distribution: [
+            b.eta.x,
+            b.eta.y,
+            b.eta.z,
+            f32::from_bits(b.distribution as u32),
+        ],
+        k_fresnel: [b.k.x, b.k.y, b.k.z, f32::from_bits(b.fresnel)],
     }
 }
 

@@ -10,8 +10,9 @@ use glam::Vec3;
 use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
 use passgraph::bsdf::fresnel::fresnel_dielectric;
+use passgraph::bsdf::thin_dielectric::thin_reflectance;
 use passgraph::bsdf::{Sample, eval, is_delta, pdf, sample};
-use passgraph::scene::{MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC};
+use passgraph::scene::{MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_THIN_DIELECTRIC};
 
 const SAMPLES: usize = 200_000;
 fn draw(case: &Case, seed: u64) -> Vec<Sample> {
@@ -81,7 +82,8 @@ fn sample_weight_is_eval_over_pdf() {
 
 /// Fails on a delta lobe that leaves in the wrong direction or with the wrong probability: the
 /// smooth mirror's reflection (weight kd), the smooth dielectric's choice between reflection
-/// (probability F) and refraction by Snell's law (weight tf eta_ti^2, pdf 1 - F). The
+/// (probability F) and refraction by Snell's law (weight tf eta_ti^2, pdf 1 - F), the thin
+/// dielectric's between reflection (2F / (1 + F)) and passing straight through (weight tf). The
 /// frequency of reflections is binomial: within 5 standard deviations of F.
 #[test]
 fn delta_lobes_reflect_and_refract_with_fresnel_probability() {
@@ -100,6 +102,10 @@ fn delta_lobes_reflect_and_refract_with_fresnel_probability() {
                 reflected += 1;
                 let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
                 assert!((wi - mirror).length() < 1e-5, "{}: mirror {wi}", case.name);
+            } else if case.bsdf.kind == MATERIAL_THIN_DIELECTRIC {
+                // Straight through, tinted.
+                assert!((wi + wo).length() < 1e-5, "{}: through {wi}", case.name);
+                assert_eq!(s.weight, case.bsdf.tf, "{}", case.name);
             } else {
                 let eta = relative_eta(&case.bsdf, case.outside);
                 let sin_o = Vec3::new(wo.x, wo.y, 0.0);
@@ -116,6 +122,8 @@ fn delta_lobes_reflect_and_refract_with_fresnel_probability() {
         }
         let f = if case.bsdf.kind == MATERIAL_CONDUCTOR {
             1.0
+        } else if case.bsdf.kind == MATERIAL_THIN_DIELECTRIC {
+            thin_reflectance(&case.bsdf, wo.z) as f64
         } else {
             assert_eq!(case.bsdf.kind, MATERIAL_DIELECTRIC);
             fresnel_dielectric(wo.z, relative_eta(&case.bsdf, case.outside)).r as f64

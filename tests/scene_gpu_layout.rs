@@ -60,7 +60,11 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
                 opacity,
                 table,
                 surface_map,
-                bump_scale
+                bump_scale,
+                eta,
+                distribution,
+                k,
+                fresnel
             }),
         ),
         (

@@ -4,8 +4,9 @@
 use glam::{Vec2, Vec3, Vec4};
 use passgraph::scene::texture::Encoding;
 use passgraph::scene::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Mesh, NO_TEXTURE, SURFACE_MAP_BUMP, load_mesh,
+    Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
+    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Mesh, NO_TEXTURE,
+    SURFACE_MAP_BUMP, load_mesh,
 };
 use std::path::Path;
 
@@ -106,6 +107,57 @@ fn each_key_set_gives_its_kind() {
     // Pr wins over Ns; Pr alone (no Pm) is plastic.
     assert_eq!(m("rough").kind, MATERIAL_PLASTIC);
     assert!((m("rough").alpha - 0.04).abs() < 1e-7);
+}
+
+/// Fails when `distribution`, `eta`/`k`, `conductor NAME` or `thin 1` do not reach the material (or
+/// reach a model they do not belong to), or a bad value is not named with its line.
+#[test]
+fn distribution_complex_index_and_thin_keys_reach_the_material() {
+    let mtl = "newmtl au\nPm 1\nPr 0.4\nconductor Au\ndistribution beckmann\n\
+               newmtl custom\nPm 1\nPr 0.3\neta 0.2 0.9 1.1\nk 3.9 2.4 2.1\n\
+               newmtl tinted\nPm 1\nPr 0.3\nKd 0.9 0.8 0.7\n\
+               newmtl coat\nPm 0\nPr 0.3\ndistribution BECKMANN\n\
+               newmtl window\nillum 7\nNi 1.5\nTf 0.9 0.9 1\nthin 1\nPr 0.2\n";
+    let names = ["au", "custom", "tinted", "coat", "window"];
+    let (_dir, mesh) = load(mtl, &names);
+    let m =
+        |name: &str| mesh.materials[mesh.material_names.iter().position(|n| n == name).unwrap()];
+    let (eta, k) = passgraph::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+    let au = m("au");
+    assert_eq!(
+        (au.kind, au.fresnel, au.eta, au.k),
+        (
+            MATERIAL_CONDUCTOR,
+            FRESNEL_CONDUCTOR,
+            eta.to_array(),
+            k.to_array()
+        )
+    );
+    assert_eq!(au.distribution, Distribution::Beckmann as u32);
+    let custom = m("custom");
+    assert_eq!(
+        (custom.fresnel, custom.eta, custom.k),
+        (FRESNEL_CONDUCTOR, [0.2, 0.9, 1.1], [3.9, 2.4, 2.1])
+    );
+    assert_eq!(custom.distribution, Distribution::Ggx as u32);
+    // Without eta, k or a preset: Mitsuba's material none, the tinted mirror as before.
+    assert_eq!(m("tinted").fresnel, FRESNEL_NONE);
+    assert_eq!(m("coat").kind, MATERIAL_PLASTIC);
+    assert_eq!(m("coat").distribution, Distribution::Beckmann as u32);
+    let window = m("window");
+    assert_eq!(
+        (window.kind, window.ior, window.tf, window.alpha),
+        (MATERIAL_THIN_DIELECTRIC, 1.5, [0.9, 0.9, 1.0], 0.0)
+    );
+
+    let (dir, message) = error("newmtl a\nPm 1\nconductor Unobtainium\n");
+    assert_names(&message, &dir.path().join("m.mtl"), 3, "Au");
+    let (dir, message) = error("newmtl a\nPm 1\ndistribution phong\n");
+    assert_names(&message, &dir.path().join("m.mtl"), 3, "beckmann");
+    let (dir, message) = error("newmtl a\nPm 1\neta 1 2\n");
+    assert_names(&message, &dir.path().join("m.mtl"), 3, "eta");
+    let (dir, message) = error("newmtl a\nillum 7\nthin yes\n");
+    assert_names(&message, &dir.path().join("m.mtl"), 3, "thin");
 }
 
 #[test]

@@ -10,16 +10,21 @@
 // surface's front side (only the dielectric reads it). eval is f |n.wi| of the non-delta lobes.
 // A sample's weight is f |n.wi| / pdf (0 when the sample fails, its pdf then 0 too). A delta
 // sample (delta true) has pdf = the probability of having chosen that delta lobe (1 for the
-// smooth conductor, the lobe probability for smooth plastic and dielectric); its weight already
+// smooth conductor, the lobe probability for smooth plastic, dielectric and thin dielectric);
+// its weight already
 // divides by it. The dielectric's transmission carries radiance transport's eta_ti^2.
 
 #include "fresnel.wgsl"
 #include "ggx.wgsl"
+#include "erf.wgsl"
+#include "beckmann.wgsl"
+#include "microfacet.wgsl"
 #include "bsdf_lambert.wgsl"
 #include "bsdf_phong.wgsl"
 #include "bsdf_conductor.wgsl"
 #include "bsdf_plastic.wgsl"
 #include "bsdf_dielectric.wgsl"
+#include "bsdf_thin_dielectric.wgsl"
 
 // A material at one shading point, textures already applied.
 struct Bsdf {
@@ -27,13 +32,19 @@ struct Bsdf {
     kd: vec3<f32>,
     ks: vec3<f32>,
     ns: f32,
-    // GGX alpha; 0: smooth (delta).
+    // Microfacet alpha; 0: smooth (delta).
     alpha: f32,
     ior: f32,
     tf: vec3<f32>,
     // The texel index in `materials` of the rough plastic's tables, or NO_TABLE (every other
     // model, smooth plastic).
     table: u32,
+    // The rough lobes' distribution (DISTRIBUTION_*: lib/microfacet.wgsl); the conductor's
+    // Fresnel term (FRESNEL_NONE, FRESNEL_CONDUCTOR) and complex index eta + i k.
+    distribution: u32,
+    fresnel: u32,
+    eta: vec3<f32>,
+    k: vec3<f32>,
 }
 
 struct BsdfSample {
@@ -44,7 +55,8 @@ struct BsdfSample {
 }
 
 fn bsdf_from_material(m: Material) -> Bsdf {
-    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf, m.table);
+    return Bsdf(m.kind, m.kd, m.ks, m.ns, m.alpha, m.ior, m.tf, m.table, m.distribution,
+        m.fresnel, m.eta, m.k);
 }
 
 // The world-to-local rotation: local = v * frame (rows of the transpose are the axes).
@@ -109,6 +121,8 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
         s = plastic_sample(b, wo * frame, u, u_lobe);
     } else if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
         s = dielectric_sample(b, outside, wo * frame, u, u_lobe);
+    } else if scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC {
+        s = thin_dielectric_sample(b, wo * frame, u_lobe);
     } else {
         return s;
     }
@@ -116,10 +130,11 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
     return s;
 }
 
-// True when every lobe is delta (smooth conductor, smooth dielectric): light sampling cannot
-// contribute, so the shadow ray can be skipped.
+// True when every lobe is delta (smooth conductor, smooth dielectric, thin dielectric): light
+// sampling cannot contribute, so the shadow ray can be skipped.
 fn bsdf_is_delta(b: Bsdf) -> bool {
-    return b.alpha == 0.0
+    return (b.alpha == 0.0
         && ((scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR)
-            || (scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC));
+            || (scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC)))
+        || (scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC);
 }

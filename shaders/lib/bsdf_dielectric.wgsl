@@ -1,7 +1,8 @@
 // Dielectric: a one-sided interface between outside (index 1, where the geometric normal
 // points) and inside (index ior), reflection untinted, transmission tinted tf, in radiance
-// transport (transmitted radiance scaled by eta_ti^2, the solid angle's compression); GGX-rough
-// when alpha > 0, as Mitsuba 3's roughdielectric (ggx, sample_visible), a delta interface when
+// transport (transmitted radiance scaled by eta_ti^2, the solid angle's compression);
+// microfacet-rough (GGX or Beckmann by distribution) when alpha > 0, as Mitsuba 3's
+// roughdielectric (sample_visible), a delta interface when
 // alpha = 0, as its dielectric. Local frame: normal +z on wo's side; eta is the index across
 // the interface relative to wo's side (ior outside, 1 / ior inside), which makes the maths
 // that of the outside for either side.
@@ -21,12 +22,12 @@ fn dielectric_eval(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3
     if b.alpha == 0.0 || wo.z == 0.0 {
         return vec3<f32>(0.0);
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let eta = dielectric_eta(b, outside);
     let m = dielectric_half(eta, wo, wi);
-    let d = ggx_d(a, m);
+    let d = microfacet_d(b.distribution, a, m);
     let f = fresnel_dielectric(dot(wo, m), eta).r;
-    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wo, m) * microfacet_g1(b.distribution, a, wi, m);
     if wo.z * wi.z > 0.0 {
         return vec3<f32>(f * d * g / (4.0 * abs(wo.z)));
     }
@@ -43,7 +44,7 @@ fn dielectric_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if b.alpha == 0.0 || wo.z == 0.0 {
         return 0.0;
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let eta = dielectric_eta(b, outside);
     let is_reflection = wo.z * wi.z > 0.0;
     let m = dielectric_half(eta, wo, wi);
@@ -55,7 +56,7 @@ fn dielectric_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         is_reflection);
     let f = fresnel_dielectric(dot(wo, m), eta).r;
     let lobe = select(1.0 - f, f, is_reflection);
-    return ggx_pdf_visible(a, wo, m) * lobe * abs(dwh_dwi);
+    return microfacet_pdf_visible(b.distribution, a, wo, m) * lobe * abs(dwh_dwi);
 }
 
 // Smooth: u_lobe <= F reflects, else refracts; delta, pdf = the chosen lobe's probability.
@@ -74,8 +75,8 @@ fn dielectric_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe
         let wi = vec3<f32>(-fr.eta_ti * wo.x, -fr.eta_ti * wo.y, fr.cos_t);
         return BsdfSample(wi, b.tf * (fr.eta_ti * fr.eta_ti), 1.0 - fr.r, true);
     }
-    let a = ggx_alpha(b.alpha);
-    let m = ggx_sample_visible(a, wo, u);
+    let a = microfacet_alpha(b.alpha);
+    let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let fr = fresnel_dielectric(dot(wo, m), eta);
     var wi: vec3<f32>;
     var weight: vec3<f32>;
@@ -87,7 +88,7 @@ fn dielectric_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe
         weight = b.tf * (fr.eta_ti * fr.eta_ti);
     }
     // f cos / pdf = tint G1(wi, m), which is 0 when wi left for the wrong side: a failed sample.
-    let g = ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wi, m);
     let pdf = dielectric_pdf(b, outside, wo, wi);
     if g <= 0.0 || pdf <= 0.0 {
         return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);

@@ -1,6 +1,7 @@
 // Plastic: a diffuse base kd under a dielectric coat of index ior (outside index 1) whose
 // reflection is tinted ks, as Mitsuba 3's plastic (smooth: b.table is NO_TABLE) and
-// roughplastic (GGX of roughness alpha), both with nonlinear false, two-sided. Local frame:
+// roughplastic (GGX or Beckmann of roughness alpha), both with nonlinear false, two-sided.
+// Local frame:
 // normal +z, wo.z >= 0.
 //
 // Requires the global `materials`, the scene.materials texel view (texture_storage_2d
@@ -103,11 +104,11 @@ fn rough_plastic_diffuse(b: Bsdf, cos_o: f32, cos_i: f32) -> vec3<f32> {
 
 // The rough coat's specular part: ks F D G / (4 cos_o) (f times cos_i).
 fn rough_plastic_specular(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let m = normalize(wo + wi);
-    let d = ggx_d(a, m);
+    let d = microfacet_d(b.distribution, a, m);
     let f = fresnel_dielectric(dot(wo, m), b.ior).r;
-    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wo, m) * microfacet_g1(b.distribution, a, wi, m);
     return b.ks * (f * d * g / (4.0 * wo.z));
 }
 
@@ -123,14 +124,14 @@ fn rough_plastic_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         return 0.0;
     }
     let p_s = plastic_specular_probability(b, 1.0 - rough_plastic_transmittance(b, wo.z));
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let m = normalize(wo + wi);
     // The visible-normal density times the reflection Jacobian 1 / (4 wo.m).
-    let specular = ggx_d(a, m) * ggx_g1(a, wo, m) / (4.0 * wo.z);
+    let specular = microfacet_d(b.distribution, a, m) * microfacet_g1(b.distribution, a, wo, m) / (4.0 * wo.z);
     return p_s * specular + (1.0 - p_s) * (wi.z / PI);
 }
 
-// u_lobe below the specular probability reflects wo about a visible GGX normal, otherwise the
+// u_lobe below the specular probability reflects wo about a visible microfacet normal, otherwise the
 // base is sampled by the cosine; either way the pdf is the mixture's.
 fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample {
     if wo.z <= 0.0 {
@@ -139,7 +140,7 @@ fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> Bs
     let p_s = plastic_specular_probability(b, 1.0 - rough_plastic_transmittance(b, wo.z));
     var wi: vec3<f32>;
     if u_lobe < p_s {
-        let m = ggx_sample_visible(ggx_alpha(b.alpha), wo, u);
+        let m = microfacet_sample_visible(b.distribution, microfacet_alpha(b.alpha), wo, u);
         wi = 2.0 * dot(wo, m) * m - wo;
     } else {
         wi = sample_cosine(vec3<f32>(0.0, 0.0, 1.0), u.x, u.y);

@@ -43,3 +43,21 @@ fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
         * (-7.80989 + inv_eta * (4.98554 + inv_eta * -1.36881))));
     return select(approx_2, approx_1, eta < 1.0);
 }
+
+// Unpolarised reflectance of a conductor of complex relative index eta + i k at cos_i (0..1),
+// per channel: Mitsuba 3's fresnel_conductor (after Moeller, "Optics", 1988).
+fn fresnel_conductor(cos_i: f32, eta: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
+    let cos2 = cos_i * cos_i;
+    let sin2 = 1.0 - cos2;
+    let sin4 = sin2 * sin2;
+    let temp_1 = eta * eta - k * k - vec3<f32>(sin2);
+    let a2_plus_b2 = sqrt(max(vec3<f32>(0.0), temp_1 * temp_1 + 4.0 * k * k * eta * eta));
+    let a = sqrt(max(vec3<f32>(0.0), 0.5 * (a2_plus_b2 + temp_1)));
+    let term_1 = a2_plus_b2 + vec3<f32>(cos2);
+    let term_2 = 2.0 * cos_i * a;
+    let r_s = (term_1 - term_2) / (term_1 + term_2);
+    let term_3 = a2_plus_b2 * cos2 + vec3<f32>(sin4);
+    let term_4 = term_2 * sin2;
+    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
+    return 0.5 * (r_s + r_p);
+}

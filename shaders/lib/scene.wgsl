@@ -39,6 +39,11 @@ override scene_light_kinds: u32 = 0xffffffffu;
 override scene_environment: u32 = 0xffffffffu;
 // Whether a used material has a normal or bump map (lib/surface_map.wgsl).
 override scene_has_surface_maps: bool = true;
+// Whether a used material's rough lobe has Beckmann microfacets (lib/microfacet.wgsl), and
+// whether a used conductor has a complex-index Fresnel term (lib/bsdf_conductor.wgsl): without
+// them a material's last two texels are not read and their code is specialised away.
+override scene_has_beckmann: bool = true;
+override scene_has_conductor_fresnel: bool = true;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
@@ -74,7 +79,7 @@ struct Material {
     ks: vec3<f32>,
     kind: u32,
     ke: vec3<f32>,
-    // GGX alpha = r^2; 0: smooth (delta).
+    // Microfacet alpha = r^2; 0: smooth (delta).
     alpha: f32,
     tf: vec3<f32>,
     ior: f32,
@@ -90,7 +95,17 @@ struct Material {
     // (lib/surface_map.wgsl); the bump map's height scale.
     surface_map: u32,
     bump_scale: f32,
+    // A conductor's complex index eta + i k, read when fresnel is FRESNEL_CONDUCTOR (else
+    // FRESNEL_NONE: Fresnel 1, the tint kd alone); the rough models' microfacet distribution
+    // (DISTRIBUTION_GGX, DISTRIBUTION_BECKMANN: lib/microfacet.wgsl).
+    eta: vec3<f32>,
+    distribution: u32,
+    k: vec3<f32>,
+    fresnel: u32,
 }
+
+const FRESNEL_NONE: u32 = 0u;
+const FRESNEL_CONDUCTOR: u32 = 1u;
 
 // A triangle's shading data in scene.shading (BVH order, 4 texels): corner normals n0..n2 and
 // texture coordinates (u0, v0), uv1, uv2; flags: SHADING_HAS_NORMALS | SHADING_HAS_UVS.
@@ -113,6 +128,7 @@ const MATERIAL_PHONG: u32 = 1u;
 const MATERIAL_CONDUCTOR: u32 = 2u;
 const MATERIAL_PLASTIC: u32 = 3u;
 const MATERIAL_DIELECTRIC: u32 = 4u;
+const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const SURFACE_MAP_BUMP: u32 = 0x80000000u;
 const NO_TABLE: u32 = 0xffffffffu;
@@ -244,23 +260,34 @@ fn scene_triangle_vertices(view: texture_storage_2d<rgba32uint, read>, i: u32) -
     );
 }
 
-// Material i of a scene.materials view (6 texels each).
+// Material i of a scene.materials view (8 texels each). The last two are read only in scenes
+// that use them (scene_has_beckmann, scene_has_conductor_fresnel); elsewhere they hold the
+// defaults (GGX, Fresnel none), which the zeros here are.
 fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Material {
-    let a = scene_texel(view, 6u * i);
-    let b = scene_texel(view, 6u * i + 1u);
-    let c = scene_texel(view, 6u * i + 2u);
-    let d = scene_texel(view, 6u * i + 3u);
-    let e = scene_texel(view, 6u * i + 4u);
-    let f = scene_texel(view, 6u * i + 5u);
+    let a = scene_texel(view, 8u * i);
+    let b = scene_texel(view, 8u * i + 1u);
+    let c = scene_texel(view, 8u * i + 2u);
+    let d = scene_texel(view, 8u * i + 3u);
+    let e = scene_texel(view, 8u * i + 4u);
+    let f = scene_texel(view, 8u * i + 5u);
+    var g = vec4<u32>(0u);
+    if scene_has_beckmann || scene_has_conductor_fresnel {
+        g = scene_texel(view, 8u * i + 6u);
+    }
+    var h = vec4<u32>(0u);
+    if scene_has_conductor_fresnel {
+        h = scene_texel(view, 8u * i + 7u);
+    }
     return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), b.w,
                     bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
                     bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y, f.z,
-                    bitcast<f32>(f.w));
+                    bitcast<f32>(f.w), bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz),
+                    h.w);
 }
 
 // Only the emitted radiance of material i (what light sampling needs).
 fn scene_material_ke(view: texture_storage_2d<rgba32uint, read>, i: u32) -> vec3<f32> {
-    return bitcast<vec3<f32>>(scene_texel(view, 6u * i + 2u).xyz);
+    return bitcast<vec3<f32>>(scene_texel(view, 8u * i + 2u).xyz);
 }
 
 // Light i of a scene.lights view (3 texels each).

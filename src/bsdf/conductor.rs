@@ -1,20 +1,33 @@
-//! Conductor (`shaders/lib/bsdf_conductor.wgsl`): a mirror tinted kd, GGX-rough when alpha > 0,
-//! a delta mirror when alpha = 0, as Mitsuba 3's roughconductor / conductor with material none
-//! and specular_reflectance kd, two-sided. Local frame: normal +z, wo.z >= 0.
+//! Conductor (`shaders/lib/bsdf_conductor.wgsl`): a mirror tinted kd, microfacet-rough when
+//! alpha > 0, a delta mirror when alpha = 0, as Mitsuba 3's roughconductor / conductor,
+//! two-sided: with `fresnel` FRESNEL_NONE its material none (Fresnel 1) with
+//! specular_reflectance kd, with FRESNEL_CONDUCTOR kd times the Fresnel term of the complex index
+//! eta + i k. Local frame: normal +z, wo.z >= 0.
 
-use super::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_sample_visible};
+use super::fresnel::fresnel_conductor;
+use super::microfacet::{microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible};
 use super::{Bsdf, Sample};
+use crate::scene::gpu::FRESNEL_CONDUCTOR;
 use glam::{Vec2, Vec3};
+
+/// The reflectance at cos(wo, m) = `cos_i`: kd, times the complex-index Fresnel term when the
+/// material has one (kd alone is the tinted mirror, unchanged bit for bit).
+fn reflectance(b: &Bsdf, cos_i: f32) -> Vec3 {
+    if b.fresnel == FRESNEL_CONDUCTOR {
+        return b.kd * fresnel_conductor(cos_i, b.eta, b.k);
+    }
+    b.kd
+}
 
 pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3) -> Vec3 {
     if b.alpha == 0.0 || wo.z <= 0.0 || wi.z <= 0.0 {
         return Vec3::ZERO;
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let m = (wo + wi).normalize();
-    let d = ggx_d(a, m);
-    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
-    b.kd * (d * g / (4.0 * wo.z))
+    let d = microfacet_d(b.distribution, a, m);
+    let g = microfacet_g1(b.distribution, a, wo, m) * microfacet_g1(b.distribution, a, wi, m);
+    reflectance(b, wo.dot(m)) * (d * g / (4.0 * wo.z))
 }
 
 pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3) -> f32 {
@@ -25,9 +38,9 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 || wo.dot(m) <= 0.0 || wi.dot(m) <= 0.0 {
         return 0.0;
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     // The visible-normal density times the reflection Jacobian 1 / (4 wi.m), wi.m = wo.m.
-    ggx_d(a, m) * ggx_g1(a, wo, m) / (4.0 * wo.z)
+    microfacet_d(b.distribution, a, m) * microfacet_g1(b.distribution, a, wo, m) / (4.0 * wo.z)
 }
 
 pub fn sample(b: &Bsdf, wo: Vec3, u: Vec2) -> Sample {
@@ -38,22 +51,22 @@ pub fn sample(b: &Bsdf, wo: Vec3, u: Vec2) -> Sample {
         // The delta lobe is chosen with probability 1.
         return Sample {
             wi: Vec3::new(-wo.x, -wo.y, wo.z),
-            weight: b.kd,
+            weight: reflectance(b, wo.z),
             pdf: 1.0,
             delta: true,
         };
     }
-    let a = ggx_alpha(b.alpha);
-    let m = ggx_sample_visible(a, wo, u);
+    let a = microfacet_alpha(b.alpha);
+    let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let wi = 2.0 * wo.dot(m) * m - wo;
     let pdf = pdf(b, wo, wi);
     if pdf <= 0.0 {
         return Sample::failed(wi);
     }
-    // f cos / pdf = kd G1(wi, m): D and G1(wo, m) cancel.
+    // f cos / pdf = F kd G1(wi, m): D and G1(wo, m) cancel.
     Sample {
         wi,
-        weight: b.kd * ggx_g1(a, wi, m),
+        weight: reflectance(b, wo.dot(m)) * microfacet_g1(b.distribution, a, wi, m),
         pdf,
         delta: false,
     }

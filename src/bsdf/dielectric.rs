@@ -1,12 +1,15 @@
 //! Dielectric (`shaders/lib/bsdf_dielectric.wgsl`): a one-sided interface between outside
 //! (index 1, where the geometric normal points) and inside (index ior), reflection untinted,
 //! transmission tinted tf, in radiance transport (transmitted radiance scaled by eta_ti^2);
-//! GGX-rough when alpha > 0 as Mitsuba 3's roughdielectric, a delta interface when alpha = 0 as
+//! microfacet-rough (GGX or Beckmann, `distribution`) when alpha > 0 as Mitsuba 3's roughdielectric, a delta interface when alpha = 0 as
 //! its dielectric. Local frame: normal +z on wo's side; `eta` is the index across the interface
 //! relative to wo's side (ior outside, 1 / ior inside).
 
 use super::fresnel::fresnel_dielectric;
-use super::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_pdf_visible, ggx_sample_visible};
+use super::microfacet::{
+    microfacet_alpha, microfacet_d, microfacet_g1, microfacet_pdf_visible,
+    microfacet_sample_visible,
+};
 use super::{Bsdf, Sample};
 use glam::{Vec2, Vec3};
 
@@ -25,12 +28,12 @@ pub fn eval(b: &Bsdf, outside: bool, wo: Vec3, wi: Vec3) -> Vec3 {
     if b.alpha == 0.0 || wo.z == 0.0 {
         return Vec3::ZERO;
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let eta = relative_eta(b, outside);
     let m = half(eta, wo, wi);
-    let d = ggx_d(a, m);
+    let d = microfacet_d(b.distribution, a, m);
     let f = fresnel_dielectric(wo.dot(m), eta).r;
-    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wo, m) * microfacet_g1(b.distribution, a, wi, m);
     if wo.z * wi.z > 0.0 {
         return Vec3::splat(f * d * g / (4.0 * wo.z.abs()));
     }
@@ -47,7 +50,7 @@ pub fn pdf(b: &Bsdf, outside: bool, wo: Vec3, wi: Vec3) -> f32 {
     if b.alpha == 0.0 || wo.z == 0.0 {
         return 0.0;
     }
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let eta = relative_eta(b, outside);
     let is_reflection = wo.z * wi.z > 0.0;
     let m = half(eta, wo, wi);
@@ -62,7 +65,7 @@ pub fn pdf(b: &Bsdf, outside: bool, wo: Vec3, wi: Vec3) -> f32 {
     };
     let f = fresnel_dielectric(wo.dot(m), eta).r;
     let lobe = if is_reflection { f } else { 1.0 - f };
-    ggx_pdf_visible(a, wo, m) * lobe * dwh_dwi.abs()
+    microfacet_pdf_visible(b.distribution, a, wo, m) * lobe * dwh_dwi.abs()
 }
 
 /// Smooth: `u_lobe <= F` reflects, else refracts; delta, pdf = the chosen lobe's probability.
@@ -89,8 +92,8 @@ pub fn sample(b: &Bsdf, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample
             delta: true,
         };
     }
-    let a = ggx_alpha(b.alpha);
-    let m = ggx_sample_visible(a, wo, u);
+    let a = microfacet_alpha(b.alpha);
+    let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let fr = fresnel_dielectric(wo.dot(m), eta);
     let (wi, weight) = if u_lobe <= fr.r {
         (2.0 * wo.dot(m) * m - wo, Vec3::ONE)
@@ -101,7 +104,7 @@ pub fn sample(b: &Bsdf, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample
         )
     };
     // f cos / pdf = tint G1(wi, m), 0 when wi left for the wrong side: a failed sample.
-    let g = ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wi, m);
     let pdf = pdf(b, outside, wo, wi);
     if g <= 0.0 || pdf <= 0.0 {
         return Sample::failed(wi);

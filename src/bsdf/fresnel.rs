@@ -1,5 +1,7 @@
 //! Fresnel reflectance of a dielectric interface (`shaders/lib/fresnel.wgsl`), as Mitsuba 3's
-//! `fresnel` and `fresnel_diffuse_reflectance`.
+//! `fresnel` and `fresnel_diffuse_reflectance`; a conductor's, as its `fresnel_conductor`.
+
+use glam::Vec3;
 
 /// F and the refraction's quantities at `cos_i` for relative index `eta` (inside / outside; the
 /// normal points outside). `cos_i < 0`: light arriving from inside.
@@ -50,4 +52,24 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
                 + inv_eta
                     * (6.75335 + inv_eta * (-7.80989 + inv_eta * (4.98554 + inv_eta * -1.36881))));
     if eta < 1.0 { approx_1 } else { approx_2 }
+}
+
+/// Unpolarised reflectance of a conductor of complex relative index eta + i k at `cos_i`
+/// (0..1), per channel: Mitsuba 3's `fresnel_conductor` (after Moeller, "Optics", 1988).
+pub fn fresnel_conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
+    let cos2 = cos_i * cos_i;
+    let sin2 = 1.0 - cos2;
+    let sin4 = sin2 * sin2;
+    let temp_1 = eta * eta - k * k - Vec3::splat(sin2);
+    let a2_plus_b2 = (temp_1 * temp_1 + 4.0 * k * k * eta * eta)
+        .max(Vec3::ZERO)
+        .sqrt();
+    let a = (0.5 * (a2_plus_b2 + temp_1)).max(Vec3::ZERO).sqrt();
+    let term_1 = a2_plus_b2 + Vec3::splat(cos2);
+    let term_2 = 2.0 * cos_i * a;
+    let r_s = (term_1 - term_2) / (term_1 + term_2);
+    let term_3 = a2_plus_b2 * cos2 + Vec3::splat(sin4);
+    let term_4 = term_2 * sin2;
+    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
+    0.5 * (r_s + r_p)
 }

@@ -6,19 +6,24 @@
 //! sample's weight is f |n.wi| / pdf; a delta sample's pdf is the probability of having chosen
 //! its lobe.
 
+pub mod beckmann;
 pub mod conductor;
+pub mod conductor_presets;
 pub mod dielectric;
+pub mod erf;
 pub mod frame;
 pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
+pub mod microfacet;
 pub mod phong;
 pub mod plastic;
 pub mod plastic_tables;
+pub mod thin_dielectric;
 
 use crate::scene::gpu::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material,
+    Distribution, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG,
+    MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material,
 };
 use crate::scene::material_tables::NO_TABLE;
 use frame::{basis, to_local};
@@ -32,10 +37,16 @@ pub struct Bsdf {
     pub kd: Vec3,
     pub ks: Vec3,
     pub ns: f32,
-    /// GGX alpha; 0: smooth (delta).
+    /// Microfacet alpha; 0: smooth (delta).
     pub alpha: f32,
     pub ior: f32,
     pub tf: Vec3,
+    /// The rough lobes' microfacet distribution.
+    pub distribution: Distribution,
+    /// The conductor's Fresnel term (`FRESNEL_NONE` or `FRESNEL_CONDUCTOR`) and complex index.
+    pub fresnel: u32,
+    pub eta: Vec3,
+    pub k: Vec3,
     /// The rough plastic's tables (bsdf.wgsl holds their texel index in the materials view,
     /// `table`); `None` for every other model and for smooth plastic.
     pub table: Option<PlasticTable>,
@@ -58,6 +69,10 @@ impl Bsdf {
             alpha: m.alpha,
             ior: m.ior,
             tf: Vec3::from(m.tf),
+            distribution: Distribution::from_u32(m.distribution),
+            fresnel: m.fresnel,
+            eta: Vec3::from(m.eta),
+            k: Vec3::from(m.k),
         }
     }
 }
@@ -121,13 +136,15 @@ pub fn sample(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) 
         MATERIAL_CONDUCTOR => conductor::sample(b, local, u),
         MATERIAL_PLASTIC => plastic::sample(b, local, u, u_lobe),
         MATERIAL_DIELECTRIC => dielectric::sample(b, outside, local, u, u_lobe),
+        MATERIAL_THIN_DIELECTRIC => thin_dielectric::sample(b, local, u_lobe),
         _ => return Sample::failed(n),
     };
     s.wi = frame * s.wi;
     s
 }
 
-/// True when every lobe is delta (smooth conductor, smooth dielectric).
+/// True when every lobe is delta (smooth conductor, smooth dielectric, thin dielectric).
 pub fn is_delta(b: &Bsdf) -> bool {
-    b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC)
+    (b.alpha == 0.0 && (b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC))
+        || b.kind == MATERIAL_THIN_DIELECTRIC
 }

@@ -1,11 +1,11 @@
 //! Plastic (`shaders/lib/bsdf_plastic.wgsl`): a diffuse base kd under a dielectric coat of
 //! index ior (outside 1) tinted ks, as Mitsuba 3's plastic (smooth: no table) and roughplastic
-//! (GGX, alpha > 0, with the coat's tables: src/bsdf/plastic_tables.rs), both with nonlinear
+//! (GGX or Beckmann by `distribution`, alpha > 0, with the coat's tables: src/bsdf/plastic_tables.rs), both with nonlinear
 //! false, two-sided. Local frame: normal +z, wo.z >= 0.
 
 use super::frame::sample_cosine;
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
-use super::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_sample_visible};
+use super::microfacet::{microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible};
 use super::plastic_tables::PlasticTable;
 use super::{Bsdf, Sample};
 use glam::{Vec2, Vec3};
@@ -107,11 +107,11 @@ fn rough_diffuse(b: &Bsdf, t: &PlasticTable, cos_o: f32, cos_i: f32) -> Vec3 {
 
 /// The rough coat's specular part: ks F D G / (4 cos_o) (f times cos_i).
 fn rough_specular(b: &Bsdf, wo: Vec3, wi: Vec3) -> Vec3 {
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let m = (wo + wi).normalize();
-    let d = ggx_d(a, m);
+    let d = microfacet_d(b.distribution, a, m);
     let f = fresnel_dielectric(wo.dot(m), b.ior).r;
-    let g = ggx_g1(a, wo, m) * ggx_g1(a, wi, m);
+    let g = microfacet_g1(b.distribution, a, wo, m) * microfacet_g1(b.distribution, a, wi, m);
     b.ks * (f * d * g / (4.0 * wo.z))
 }
 
@@ -127,14 +127,15 @@ fn rough_pdf(b: &Bsdf, t: &PlasticTable, wo: Vec3, wi: Vec3) -> f32 {
         return 0.0;
     }
     let p_s = specular_probability(b, 1.0 - t.transmittance_at(wo.z));
-    let a = ggx_alpha(b.alpha);
+    let a = microfacet_alpha(b.alpha);
     let m = (wo + wi).normalize();
     // The visible-normal density times the reflection Jacobian 1 / (4 wo.m).
-    let specular = ggx_d(a, m) * ggx_g1(a, wo, m) / (4.0 * wo.z);
+    let specular =
+        microfacet_d(b.distribution, a, m) * microfacet_g1(b.distribution, a, wo, m) / (4.0 * wo.z);
     p_s * specular + (1.0 - p_s) * (wi.z / PI)
 }
 
-/// `u_lobe` below the specular probability reflects wo about a visible GGX normal, otherwise
+/// `u_lobe` below the specular probability reflects wo about a visible microfacet normal, otherwise
 /// the base is sampled by the cosine; either way the pdf is the mixture's.
 fn rough_sample(b: &Bsdf, t: &PlasticTable, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
     if wo.z <= 0.0 {
@@ -142,7 +143,7 @@ fn rough_sample(b: &Bsdf, t: &PlasticTable, wo: Vec3, u: Vec2, u_lobe: f32) -> S
     }
     let p_s = specular_probability(b, 1.0 - t.transmittance_at(wo.z));
     let wi = if u_lobe < p_s {
-        let m = ggx_sample_visible(ggx_alpha(b.alpha), wo, u);
+        let m = microfacet_sample_visible(b.distribution, microfacet_alpha(b.alpha), wo, u);
         2.0 * wo.dot(m) * m - wo
     } else {
         sample_cosine(Vec3::Z, u.x, u.y)

@@ -1,7 +1,7 @@
 //! The rough plastic's per-material tables, as Mitsuba 3's roughplastic precomputes them: the
 //! coat's external transmittance over cos theta (64 entries at cos = 0, 1/63, ... 1, read by
 //! linear interpolation) and its internal reflectance (a scalar). Both are integrals over the
-//! GGX visible normals; they are computed here in f64 by Mitsuba's own rule (its
+//! coat's visible normals (GGX or Beckmann); they are computed here in f64 by Mitsuba's own rule (its
 //! `eval_transmittance` / `eval_reflectance`: a tensor Gauss-Legendre rule on the visible-normal
 //! sampler's unit square, 32 x 32 nodes when the relative index exceeds 1, 128 x 128 otherwise,
 //! with Mitsuba's sampler mapping), so they agree with Mitsuba's f32 tables to its rounding.
@@ -9,6 +9,7 @@
 //! On the GPU a table is 17 texels of the materials view (`TABLE_TEXELS`): the 64
 //! transmittances in order, four per texel, then the internal reflectance in the last texel's x.
 
+use crate::scene::gpu::Distribution;
 use std::f64::consts::PI;
 
 /// Mitsuba's MI_ROUGH_TRANSMITTANCE_RES.
@@ -27,10 +28,14 @@ pub struct PlasticTable {
 }
 
 impl PlasticTable {
-    /// The tables of a GGX coat of roughness `alpha` (floored as Mitsuba floors it) and
-    /// relative index `eta` (inside / outside).
-    pub fn compute(alpha: f32, eta: f32) -> PlasticTable {
+    /// The tables of a coat with `distribution`'s microfacets of roughness `alpha` (floored as
+    /// Mitsuba floors it) and relative index `eta` (inside / outside).
+    pub fn compute(distribution: Distribution, alpha: f32, eta: f32) -> PlasticTable {
         let alpha = f64::from(alpha.max(1e-4));
+        let coat = Coat {
+            distribution,
+            alpha,
+        };
         let eta = f64::from(eta);
         let mut transmittance = [0.0f32; TRANSMITTANCE_RES];
         let mut reflectance_sum = 0.0;
@@ -38,8 +43,8 @@ impl PlasticTable {
             // Mitsuba's linspace(0, 1, 64) floored at 1e-6, in the xz-plane.
             let mu = (i as f64 / (TRANSMITTANCE_RES - 1) as f64).max(1e-6);
             let wi = [(1.0 - mu * mu).sqrt(), 0.0, mu];
-            *t = transmittance_at(alpha, wi, eta) as f32;
-            reflectance_sum += reflectance_at(alpha, wi, 1.0 / eta) * mu;
+            *t = transmittance_at(coat, wi, eta) as f32;
+            reflectance_sum += reflectance_at(coat, wi, 1.0 / eta) * mu;
         }
         // Mitsuba's mean(R(mu) mu) * 2 over the same 64 cosines: the cosine-weighted
         // hemispherical average by an equal-weight rule.
@@ -96,9 +101,9 @@ fn normalize(v: V3) -> V3 {
 
 /// The fraction of light arriving along `wi` (outside, z > 0) that the rough interface of
 /// relative index `eta` transmits: Mitsuba's `eval_transmittance`.
-fn transmittance_at(alpha: f64, wi: V3, eta: f64) -> f64 {
+fn transmittance_at(coat: Coat, wi: V3, eta: f64) -> f64 {
     integrate(eta, |u| {
-        let m = sample_visible(alpha, wi, u);
+        let m = coat.sample_visible(wi, u);
         let (f, cos_t, eta_ti) = fresnel(dot(wi, m), eta);
         let k = dot(wi, m) * eta_ti + cos_t;
         let wo = [
@@ -109,16 +114,16 @@ fn transmittance_at(alpha: f64, wi: V3, eta: f64) -> f64 {
         if wo[2] * wi[2] >= 0.0 {
             0.0
         } else {
-            smith_g1(alpha, wo, m) * (1.0 - f)
+            coat.smith_g1(wo, m) * (1.0 - f)
         }
     })
 }
 
 /// The fraction of light arriving along `wi` that the rough interface of relative index `eta`
 /// reflects once: Mitsuba's `eval_reflectance`.
-fn reflectance_at(alpha: f64, wi: V3, eta: f64) -> f64 {
+fn reflectance_at(coat: Coat, wi: V3, eta: f64) -> f64 {
     integrate(eta, |u| {
-        let m = sample_visible(alpha, wi, u);
+        let m = coat.sample_visible(wi, u);
         let c = dot(wi, m);
         let wo = [
             2.0 * c * m[0] - wi[0],
@@ -128,7 +133,7 @@ fn reflectance_at(alpha: f64, wi: V3, eta: f64) -> f64 {
         if wo[2] <= 0.0 || wi[2] <= 0.0 {
             0.0
         } else {
-            smith_g1(alpha, wo, m) * fresnel(c, eta).0
+            coat.smith_g1(wo, m) * fresnel(c, eta).0
         }
     })
 }
@@ -181,6 +186,79 @@ fn legendre_pd(n: usize, x: f64) -> (f64, f64) {
     }
     let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
     (p1, dp)
+}
+
+/// The coat's microfacets.
+#[derive(Clone, Copy)]
+struct Coat {
+    distribution: Distribution,
+    alpha: f64,
+}
+
+impl Coat {
+    fn sample_visible(self, wi: V3, u: [f64; 2]) -> V3 {
+        match self.distribution {
+            Distribution::Ggx => sample_visible(self.alpha, wi, u),
+            Distribution::Beckmann => beckmann_sample_visible(self.alpha, wi, u),
+        }
+    }
+
+    fn smith_g1(self, v: V3, m: V3) -> f64 {
+        match self.distribution {
+            Distribution::Ggx => smith_g1(self.alpha, v, m),
+            Distribution::Beckmann => beckmann_smith_g1(self.alpha, v, m),
+        }
+    }
+}
+
+/// Mitsuba's Beckmann visible-normal sampler for `wi` in the xz-plane with x >= 0 (its
+/// azimuth rotation the identity): the stretched incidence's alpha = 1 slopes (Jakob 2014's
+/// three Newton steps from Mitsuba's first guess, on the same clamped square), unstretched.
+fn beckmann_sample_visible(alpha: f64, wi: V3, u: [f64; 2]) -> V3 {
+    let inv_sqrt_pi = 1.0 / PI.sqrt();
+    let wi_p = normalize([alpha * wi[0], alpha * wi[1], wi[2]]);
+    let cos_theta = wi_p[2];
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let tan_theta = sin_theta / cos_theta;
+    let cot_theta = cos_theta / sin_theta.max(1e-7);
+    let maxval = erf(cot_theta);
+    let u = u.map(|c| c.clamp(1e-6, 1.0 - 1e-6));
+    let mut x = maxval - (maxval + 1.0) * erf((-u[0].ln()).sqrt());
+    let target = u[0] * (1.0 + maxval + inv_sqrt_pi * tan_theta * (-cot_theta * cot_theta).exp());
+    for _ in 0..3 {
+        let slope = erfinv(x);
+        let value = 1.0 + x + inv_sqrt_pi * tan_theta * (-slope * slope).exp() - target;
+        x -= value / (1.0 - slope * tan_theta);
+    }
+    let slope = [erfinv(x) * alpha, erfinv(2.0 * u[1] - 1.0) * alpha];
+    normalize([-slope[0], -slope[1], 1.0])
+}
+
+/// Beckmann Smith G1 by Mitsuba's rational fit, with its orientation rule.
+fn beckmann_smith_g1(alpha: f64, v: V3, m: V3) -> f64 {
+    let xy = alpha * alpha * (v[0] * v[0] + v[1] * v[1]);
+    if dot(v, m) * v[2] <= 0.0 {
+        return 0.0;
+    }
+    if xy == 0.0 {
+        return 1.0;
+    }
+    let a = (v[2] * v[2] / xy).sqrt();
+    if a >= 1.6 {
+        return 1.0;
+    }
+    (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a)
+}
+
+/// erf and erfinv as the sampler computes them (src/bsdf/erf.rs, in f32): Mitsuba's f32
+/// approximations are of the same grade (a few 1e-7), which moves the rule's normals by that
+/// and the tables' values far less than the 1e-5 they are checked to.
+fn erf(x: f64) -> f64 {
+    f64::from(super::erf::erf(x as f32))
+}
+
+fn erfinv(x: f64) -> f64 {
+    f64::from(super::erf::erfinv(x as f32))
 }
 
 /// Mitsuba's GGX visible-normal sampler (stretch, `sample_visible_11` through the concentric
@@ -276,7 +354,7 @@ mod tests {
     /// Near-smooth coats approach the smooth interface: transmittance 1 - F(cos).
     #[test]
     fn a_near_smooth_coat_transmits_one_minus_fresnel() {
-        let t = PlasticTable::compute(1e-4, 1.5);
+        let t = PlasticTable::compute(Distribution::Ggx, 1e-4, 1.5);
         for (i, &v) in t.transmittance.iter().enumerate().skip(1) {
             let mu = i as f64 / 63.0;
             let expected = 1.0 - fresnel(mu, 1.5).0;

@@ -219,6 +219,18 @@ const OVERRIDES: &[Override] = &[
         what: "whether a used material has a normal map (MTL norm) or bump map (map_Bump, bump)",
         value: |gpu| if gpu.has_surface_maps { 1.0 } else { 0.0 },
     },
+    Override {
+        name: "scene_has_beckmann",
+        ty: ParamType::Bool,
+        what: "whether a used material's rough lobe has Beckmann microfacets (MTL distribution beckmann)",
+        value: |gpu| if gpu.has_beckmann { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_conductor_fresnel",
+        ty: ParamType::Bool,
+        what: "whether a used conductor has a complex-index Fresnel term (MTL eta/k or conductor NAME)",
+        value: |gpu| if gpu.has_conductor_fresnel { 1.0 } else { 0.0 },
+    },
 ];
 
 /// The path tracer's provided resources and overrides, as the compiler checks graphs against.

@@ -34,14 +34,19 @@ pub struct Triangle {
 }
 
 /// A material: its model (`kind`, one of the `MATERIAL_*` constants) and the model's
-/// parameters, as `shaders/lib/scene.wgsl`'s `Material` (6 texels). Which MTL keys give which
+/// parameters, as `shaders/lib/scene.wgsl`'s `Material` (8 texels). Which MTL keys give which
 /// kind: `obj.rs`. `ke` is emitted radiance (front face only) whatever the kind.
 ///
 /// - Lambert: f = kd / pi.
 /// - Phong (the seed's normalised Blinn-Phong): f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns.
-/// - Conductor: GGX microfacets of roughness `alpha` (0: a perfect mirror), Fresnel = kd.
-/// - Plastic: diffuse kd under a GGX dielectric coat of index `ior`, specular tint ks.
+/// - Conductor: microfacets of roughness `alpha` (0: a perfect mirror), Fresnel = kd, or with
+///   `fresnel` [`FRESNEL_CONDUCTOR`] kd times the complex-index Fresnel of `eta` + i `k`.
+/// - Plastic: diffuse kd under a dielectric microfacet coat of index `ior`, specular tint ks.
 /// - Dielectric: one-sided glass of index `ior` (the front face is outside), transmittance tf.
+/// - Thin dielectric: a two-sided sheet of index `ior`, reflecting 2R / (1 + R) and passing the
+///   rest straight through tinted tf (always smooth).
+///
+/// The rough models' microfacets follow `distribution` ([`Distribution`]: GGX by default).
 ///
 /// `map_*` index `scene.textures` (or [`NO_TEXTURE`]): a texture replaces kd, ks or the
 /// roughness r (alpha = r²); `map_d` and `opacity` < 1 cut the surface out. `surface_map`
@@ -72,7 +77,63 @@ pub struct Material {
     pub surface_map: u32,
     /// The bump map's height scale (MTL `-bm`, Mitsuba's `bumpmap` `scale`).
     pub bump_scale: f32,
+    /// A conductor's complex index of refraction eta + i k (per RGB channel), read when
+    /// `fresnel` is [`FRESNEL_CONDUCTOR`].
+    pub eta: [f32; 3],
+    /// The rough models' microfacet distribution: a [`Distribution`] as u32.
+    pub distribution: u32,
+    pub k: [f32; 3],
+    /// A conductor's Fresnel term: [`FRESNEL_NONE`] (1: the tint kd alone, Mitsuba's material
+    /// none) or [`FRESNEL_CONDUCTOR`].
+    pub fresnel: u32,
 }
+
+/// The microfacet normal distribution of a rough model (`Material::distribution`), as Mitsuba
+/// 3's `distribution` parameter; alpha means the same for both (Mitsuba uses it unmapped: the
+/// RMS slope for Beckmann).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Distribution {
+    /// GGX (Trowbridge-Reitz): passgraph's default.
+    #[default]
+    Ggx = 0,
+    /// Beckmann: Mitsuba's default.
+    Beckmann = 1,
+}
+
+impl Distribution {
+    /// The distribution of a `Material::distribution` value; unknown values read as GGX, as
+    /// the shaders treat them.
+    pub fn from_u32(value: u32) -> Distribution {
+        if value == Distribution::Beckmann as u32 {
+            Distribution::Beckmann
+        } else {
+            Distribution::Ggx
+        }
+    }
+
+    /// Mitsuba's name for it (`<string name="distribution" value="...">`).
+    pub fn mitsuba_name(self) -> &'static str {
+        match self {
+            Distribution::Ggx => "ggx",
+            Distribution::Beckmann => "beckmann",
+        }
+    }
+
+    /// The distribution Mitsuba names `name` (case-insensitive, as Mitsuba reads it).
+    pub fn from_mitsuba_name(name: &str) -> Option<Distribution> {
+        match name.to_ascii_lowercase().as_str() {
+            "ggx" => Some(Distribution::Ggx),
+            "beckmann" => Some(Distribution::Beckmann),
+            _ => None,
+        }
+    }
+}
+
+/// `Material::fresnel`: the conductor's Fresnel term is 1 (kd alone).
+pub const FRESNEL_NONE: u32 = 0;
+/// `Material::fresnel`: the conductor's Fresnel term is that of the complex index eta + i k.
+pub const FRESNEL_CONDUCTOR: u32 = 1;
 
 /// A triangle's shading data (`scene.shading`, in BVH order, 4 texels): corner normals
 /// `n0..n2` (unit length) and texture coordinates `(u0, v0)`, `uv1`, `uv2`; `flags` says which
@@ -99,6 +160,7 @@ pub const MATERIAL_PHONG: u32 = 1;
 pub const MATERIAL_CONDUCTOR: u32 = 2;
 pub const MATERIAL_PLASTIC: u32 = 3;
 pub const MATERIAL_DIELECTRIC: u32 = 4;
+pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
 
 /// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
 pub const DEFAULT_MAX_DEPTH: u32 = 3;
@@ -191,7 +253,7 @@ pub struct Frame {
 
 // WGSL aligns vec3<f32> to 16 bytes; these sizes are what scene.wgsl's structs occupy.
 const _: () = assert!(size_of::<Triangle>() == 48);
-const _: () = assert!(size_of::<Material>() == 96);
+const _: () = assert!(size_of::<Material>() == 128);
 const _: () = assert!(size_of::<TriangleShading>() == 64);
 const _: () = assert!(size_of::<GpuBvhGrid>() == 32);
 const _: () = assert!(size_of::<PackedBvhNode>() == 16);
@@ -248,7 +310,72 @@ impl Material {
             table: super::material_tables::NO_TABLE,
             surface_map: NO_TEXTURE,
             bump_scale: 1.0,
+            eta: [0.0; 3],
+            distribution: Distribution::Ggx as u32,
+            k: [1.0; 3],
+            fresnel: FRESNEL_NONE,
         }
+    }
+
+    /// A conductor (Mitsuba's `conductor` / `roughconductor`): roughness `alpha` (0: smooth),
+    /// `specular_reflectance` the tint kd, and `ior` its complex index (eta, k) per RGB channel
+    /// ([`crate::bsdf::conductor_presets::conductor_preset`] has Mitsuba's named ones), or
+    /// `None` for Mitsuba's material none (Fresnel 1).
+    pub fn conductor(
+        specular_reflectance: [f32; 3],
+        alpha: f32,
+        distribution: Distribution,
+        ior: Option<(Vec3, Vec3)>,
+    ) -> Material {
+        let mut m = Material {
+            kind: MATERIAL_CONDUCTOR,
+            kd: specular_reflectance,
+            alpha,
+            distribution: distribution as u32,
+            ..Material::DEFAULT
+        };
+        if let Some((eta, k)) = ior {
+            m.eta = eta.to_array();
+            m.k = k.to_array();
+            m.fresnel = FRESNEL_CONDUCTOR;
+        }
+        m
+    }
+
+    /// A thin dielectric sheet (Mitsuba's `thindielectric`) of index `ior` relative to outside
+    /// (Mitsuba's int_ior / ext_ior), its transmission tinted `specular_transmittance`.
+    pub fn thin_dielectric(ior: f32, specular_transmittance: [f32; 3]) -> Material {
+        Material {
+            kind: MATERIAL_THIN_DIELECTRIC,
+            ior,
+            tf: specular_transmittance,
+            ..Material::DEFAULT
+        }
+    }
+
+    /// The same material with its rough lobes' microfacets from `distribution`.
+    pub fn with_distribution(self, distribution: Distribution) -> Material {
+        Material {
+            distribution: distribution as u32,
+            ..self
+        }
+    }
+
+    /// Whether a rough lobe of this material samples the Beckmann distribution (what the
+    /// `scene_has_beckmann` override keeps in the shaders).
+    pub fn uses_beckmann(&self) -> bool {
+        let rough = self.alpha > 0.0 || self.map_pr != NO_TEXTURE;
+        let microfacet = matches!(
+            self.kind,
+            MATERIAL_CONDUCTOR | MATERIAL_PLASTIC | MATERIAL_DIELECTRIC
+        );
+        rough && microfacet && self.distribution == Distribution::Beckmann as u32
+    }
+
+    /// Whether this is a conductor with a complex-index Fresnel term (the
+    /// `scene_has_conductor_fresnel` override).
+    pub fn uses_conductor_fresnel(&self) -> bool {
+        self.kind == MATERIAL_CONDUCTOR && self.fresnel == FRESNEL_CONDUCTOR
     }
 
     pub fn is_emissive(&self) -> bool {
@@ -391,6 +518,10 @@ pub struct SceneGpu {
     pub has_cutouts: bool,
     /// Whether a used material has a normal or bump map: `scene_has_surface_maps`.
     pub has_surface_maps: bool,
+    /// Whether a used material's rough lobe is Beckmann: `scene_has_beckmann`.
+    pub has_beckmann: bool,
+    /// Whether a used conductor has a complex-index Fresnel term: `scene_has_conductor_fresnel`.
+    pub has_conductor_fresnel: bool,
     pub bvh: BvhStats,
 }
 
@@ -451,6 +582,8 @@ impl SceneGpu {
             .iter()
             .any(|m| m.opacity < 1.0 || m.map_d != NO_TEXTURE);
         let has_surface_maps = used.iter().any(|m| m.surface_map != NO_TEXTURE);
+        let has_beckmann = used.iter().any(Material::uses_beckmann);
+        let has_conductor_fresnel = used.iter().any(Material::uses_conductor_fresnel);
         let has_shading_normals = mesh.triangles.iter().any(|t| t.normals.is_some());
         let has_uvs = mesh.triangles.iter().any(|t| t.uvs.is_some());
         let shading = if has_shading_normals || has_uvs {
@@ -483,6 +616,8 @@ impl SceneGpu {
             has_textures,
             has_cutouts,
             has_surface_maps,
+            has_beckmann,
+            has_conductor_fresnel,
             triangles,
             materials,
             lights,

@@ -1,9 +1,10 @@
-//! The `scene.materials` resource's contents: the materials' 96-byte records, then the texels
+//! The `scene.materials` resource's contents: the materials' 128-byte records, then the texels
 //! (16 bytes each) of the tables their models need, each material's `table` the texel index of
 //! its own. Today only rough plastic has one (src/bsdf/plastic_tables.rs: Mitsuba 3's
-//! roughplastic precomputes the same per material); materials with equal (alpha, ior) share it.
+//! roughplastic precomputes the same per material); materials with equal (distribution, alpha,
+//! ior) share it.
 
-use super::gpu::{MATERIAL_PLASTIC, Material};
+use super::gpu::{Distribution, MATERIAL_PLASTIC, Material};
 use crate::bsdf::plastic_tables::PlasticTable;
 use std::collections::HashMap;
 
@@ -23,7 +24,7 @@ pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>
     let mut out = materials.to_vec();
     let mut texels: Vec<[f32; 4]> = Vec::new();
     let mut tables: Vec<[f32; 4]> = Vec::new();
-    let mut shared: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut shared: HashMap<(u32, u32, u32), u32> = HashMap::new();
     let start = materials.len() * MATERIAL_TEXELS;
     for m in &mut out {
         m.table = NO_TABLE;
@@ -31,10 +32,11 @@ pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>
             continue;
         }
         m.table = *shared
-            .entry((m.alpha.to_bits(), m.ior.to_bits()))
+            .entry((m.distribution, m.alpha.to_bits(), m.ior.to_bits()))
             .or_insert_with(|| {
                 let index = (start + tables.len()) as u32;
-                tables.extend(PlasticTable::compute(m.alpha, m.ior).texels());
+                let distribution = Distribution::from_u32(m.distribution);
+                tables.extend(PlasticTable::compute(distribution, m.alpha, m.ior).texels());
                 index
             });
     }
@@ -86,8 +88,14 @@ mod tests {
         assert_eq!(texels.len(), ms.len() * MATERIAL_TEXELS + 2 * TABLE_TEXELS);
         let read =
             |m: &Material| PlasticTable::from_texels(&texels[m.table as usize..][..TABLE_TEXELS]);
-        assert_eq!(read(&out[1]), PlasticTable::compute(0.3, 1.5));
-        assert_eq!(read(&out[4]), PlasticTable::compute(0.1, 1.33));
+        assert_eq!(
+            read(&out[1]),
+            PlasticTable::compute(Distribution::Ggx, 0.3, 1.5)
+        );
+        assert_eq!(
+            read(&out[4]),
+            PlasticTable::compute(Distribution::Ggx, 0.1, 1.33)
+        );
         let records: &[Material] = bytemuck::cast_slice(&texels[..ms.len() * MATERIAL_TEXELS]);
         assert_eq!(records, &out[..]);
     }

@@ -12,8 +12,9 @@ use super::environment::{Environment, EnvironmentMap};
 use super::file::{MAX_MAX_DEPTH, Scene};
 use super::filter::PixelFilter;
 use super::gpu::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+    Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
+    SURFACE_MAP_BUMP,
 };
 use super::mesh::MeshTriangle;
 use super::texture::Texture;
@@ -382,13 +383,30 @@ fn film_filter(filter: PixelFilter) -> String {
     xml
 }
 
+/// A conductor's Fresnel term as Mitsuba's parameters: its complex index as `eta` and `k`
+/// (RGB), or `material none` (Fresnel 1).
+fn conductor_ior(m: &Material) -> String {
+    if m.fresnel == FRESNEL_CONDUCTOR {
+        format!(
+            "<rgb name=\"eta\" value=\"{}\"/>\n<rgb name=\"k\" value=\"{}\"/>\n",
+            rgb(m.eta),
+            rgb(m.k)
+        )
+    } else {
+        "<string name=\"material\" value=\"none\"/>\n".to_string()
+    }
+}
+
 /// The BSDF of material `index` as Mitsuba XML:
 ///
 /// - Lambert: `twosided` + `diffuse`.
-/// - Conductor: `twosided` + `roughconductor` (GGX, `material none`, Fresnel = kd), or
-///   `conductor` when smooth.
-/// - Plastic: `twosided` + `roughplastic` (GGX, `nonlinear false`), or `plastic` when smooth.
+/// - Conductor: `twosided` + `roughconductor` (`material none`, Fresnel = kd, or `eta` and
+///   `k` with `specular_reflectance` kd), or `conductor` when smooth.
+/// - Plastic: `twosided` + `roughplastic` (`nonlinear false`), or `plastic` when smooth.
+///
+/// Rough models name their `distribution` (ggx or beckmann) and `alpha`.
 /// - Dielectric: `roughdielectric`, or `dielectric` when smooth; one-sided, as passgraph's.
+/// - Thin dielectric: `thindielectric` (two-sided by itself).
 /// - Phong: an error (Mitsuba 3 has no Blinn-Phong).
 ///
 /// Colour maps are `bitmap` textures (sRGB), `map_d` a raw one under a `mask`; `ext_ior` is
@@ -413,10 +431,11 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
             "material '{name}' has a roughness map (map_Pr), which Mitsuba 3 cannot square into its GGX alpha"
         ));
     }
-    let ggx = |smooth: &str, rough: &str, body: String| {
+    let distribution = Distribution::from_u32(m.distribution).mitsuba_name();
+    let microfacet = |smooth: &str, rough: &str, body: String| {
         if m.alpha > 0.0 {
             format!(
-                "<bsdf type=\"{rough}\">\n    <string name=\"distribution\" value=\"ggx\"/>\n    <float name=\"alpha\" value=\"{}\"/>\n{}</bsdf>\n",
+                "<bsdf type=\"{rough}\">\n    <string name=\"distribution\" value=\"{distribution}\"/>\n    <float name=\"alpha\" value=\"{}\"/>\n{}</bsdf>\n",
                 m.alpha,
                 indent(&body, 1)
             )
@@ -464,15 +483,16 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
             "<bsdf type=\"diffuse\">\n{}</bsdf>\n",
             indent(&colour("reflectance", m.kd, m.map_kd)?, 1)
         ))?),
-        MATERIAL_CONDUCTOR => twosided(mapped(ggx(
+        MATERIAL_CONDUCTOR => twosided(mapped(microfacet(
             "conductor",
             "roughconductor",
             format!(
-                "<string name=\"material\" value=\"none\"/>\n{}",
+                "{}{}",
+                conductor_ior(&m),
                 colour("specular_reflectance", m.kd, m.map_kd)?
             ),
         ))?),
-        MATERIAL_PLASTIC => twosided(mapped(ggx(
+        MATERIAL_PLASTIC => twosided(mapped(microfacet(
             "plastic",
             "roughplastic",
             format!(
@@ -482,7 +502,7 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 colour("specular_reflectance", m.ks, m.map_ks)?
             ),
         ))?),
-        MATERIAL_DIELECTRIC => mapped(ggx(
+        MATERIAL_DIELECTRIC => mapped(microfacet(
             "dielectric",
             "roughdielectric",
             format!(
@@ -490,6 +510,18 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
                 ior(&m),
                 rgb(m.tf)
             ),
+        ))?,
+        // Two-sided by itself, as passgraph's.
+        MATERIAL_THIN_DIELECTRIC => mapped(format!(
+            "<bsdf type=\"thindielectric\">\n{}</bsdf>\n",
+            indent(
+                &format!(
+                    "{}<rgb name=\"specular_transmittance\" value=\"{}\"/>\n",
+                    ior(&m),
+                    rgb(m.tf)
+                ),
+                1
+            )
         ))?,
         MATERIAL_PHONG => {
             return Err(format!(
@@ -697,6 +729,53 @@ mod tests {
         .unwrap();
         assert_has(&xml, &["type=\"conductor\""]);
         assert!(!xml.contains("alpha"), "{xml}");
+    }
+
+    /// Fails when a Beckmann material is written as GGX (Mitsuba would render the other
+    /// distribution) or a complex-index conductor loses its eta and k.
+    #[test]
+    fn beckmann_and_complex_index_conductors_are_written_as_such() {
+        let (eta, k) = crate::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+        let gold = Material::conductor([1.0; 3], 0.2, Distribution::Beckmann, Some((eta, k)));
+        let xml = bsdf(gold).unwrap();
+        assert_has(
+            &xml,
+            &[
+                "roughconductor",
+                "name=\"distribution\" value=\"beckmann\"",
+                "name=\"alpha\" value=\"0.2\"",
+                &format!("name=\"eta\" value=\"{}, {}, {}\"", eta.x, eta.y, eta.z),
+                &format!("name=\"k\" value=\"{}, {}, {}\"", k.x, k.y, k.z),
+                "name=\"specular_reflectance\" value=\"1, 1, 1\"",
+            ],
+        );
+        assert!(!xml.contains("\"none\""), "{xml}");
+        let smooth = bsdf(Material { alpha: 0.0, ..gold }).unwrap();
+        assert_has(&smooth, &["type=\"conductor\"", "name=\"eta\""]);
+        for kind in [MATERIAL_PLASTIC, MATERIAL_DIELECTRIC] {
+            let m = Material {
+                kind,
+                alpha: 0.1,
+                ..Material::DEFAULT
+            }
+            .with_distribution(Distribution::Beckmann);
+            assert_has(&bsdf(m).unwrap(), &["value=\"beckmann\""]);
+        }
+    }
+
+    #[test]
+    fn thin_dielectrics_are_mitsubas_thindielectric() {
+        let xml = bsdf(Material::thin_dielectric(1.33, [0.9, 1.0, 1.0])).unwrap();
+        assert!(!xml.contains("twosided"), "{xml}");
+        assert_has(
+            &xml,
+            &[
+                "type=\"thindielectric\"",
+                "name=\"int_ior\" value=\"1.33\"",
+                "name=\"ext_ior\" value=\"1.0\"",
+                "name=\"specular_transmittance\" value=\"0.9, 1, 1\"",
+            ],
+        );
     }
 
     #[test]

@@ -33,10 +33,10 @@ pub use error::{Location, SceneError};
 pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
 pub use filter::PixelFilter;
 pub use gpu::{
-    BvhNode, Frame, GpuBvhGrid, GpuCamera, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
-    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, Material, NO_LIGHT, NO_TEXTURE,
-    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle,
-    TriangleShading,
+    BvhNode, Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, Frame, GpuBvhGrid, GpuCamera,
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
+    MATERIAL_THIN_DIELECTRIC, Material, NO_LIGHT, NO_TEXTURE, PackedBvhNode, SHADING_HAS_NORMALS,
+    SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use material_tables::{NO_TABLE, materials_bytes};

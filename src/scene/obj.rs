@@ -11,11 +11,13 @@
 
 use super::error::{Location, SceneError};
 use super::gpu::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+    Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
+    SURFACE_MAP_BUMP,
 };
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use super::texture::{Encoding, Texture};
+use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 use glam::{Vec2, Vec3};
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
@@ -89,6 +91,15 @@ struct MtlExtras {
     map_pr: Option<u32>,
     map_d: Option<u32>,
     surface_map: Option<SurfaceMap>,
+    /// `distribution ggx|beckmann`: the rough lobes' microfacets (Mitsuba's `distribution`).
+    distribution: Option<Distribution>,
+    /// A conductor's complex index: `eta r g b` with `k r g b`, or `conductor NAME` (one of
+    /// Mitsuba's `material` presets).
+    conductor_ior: Option<(Vec3, Vec3)>,
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+    /// `thin 1`: glass is a thin sheet (Mitsuba's `thindielectric`).
+    thin: bool,
 }
 
 /// A material's normal map (`norm`) or bump map (`map_Bump`, `bump`) and where it was given.
@@ -586,6 +597,56 @@ fn check_mtl(
                     ));
                 }
             }
+            "distribution" => {
+                let Some(distribution) = Distribution::from_mitsuba_name(rest) else {
+                    return Err(syntax(
+                        path,
+                        number,
+                        format!("distribution must be ggx or beckmann, found '{rest}'"),
+                    ));
+                };
+                set(&mut |e| e.distribution = Some(distribution));
+            }
+            "eta" | "k" => {
+                let v = numbers(3)?;
+                physical(&v)?;
+                let v = [v[0], v[1], v[2]];
+                set(&mut |e| {
+                    if keyword == "eta" {
+                        e.eta = Some(v);
+                    } else {
+                        e.k = Some(v);
+                    }
+                });
+            }
+            "thin" => {
+                let thin = match rest {
+                    "0" => false,
+                    "1" => true,
+                    _ => {
+                        return Err(syntax(
+                            path,
+                            number,
+                            format!("thin must be 0 or 1 (a thin sheet of glass), found '{rest}'"),
+                        ));
+                    }
+                };
+                set(&mut |e| e.thin = thin);
+            }
+            "conductor" => {
+                let Some((eta, k)) = conductor_preset(rest) else {
+                    let names: Vec<&str> = CONDUCTOR_PRESETS.iter().map(|p| p.0).collect();
+                    return Err(syntax(
+                        path,
+                        number,
+                        format!(
+                            "conductor needs one of Mitsuba's presets ({}), found '{rest}'",
+                            names.join(", ")
+                        ),
+                    ));
+                };
+                set(&mut |e| e.conductor_ior = Some((eta, k)));
+            }
             "map_Ka" | "map_Ns" | "map_ns" | "map_NS" | "map_Ke" | "map_Pm" | "map_Ps" | "disp"
             | "decal" | "refl" => {
                 if rest.is_empty() {
@@ -868,9 +929,12 @@ fn roughness(m: &tobj::Material, extras: &MtlExtras) -> f32 {
 /// MTL values to the renderer's material. Missing values: Kd 0.8 (as for faces without a
 /// material), Ks 0, Ns 0, Ke 0, Ni 1.5, Tf 1, d 1.
 ///
-/// The kind: `illum` 4, 6 or 7, or a `Tf`: dielectric (glass). Else `Pm` or `Pr` (the PBR
-/// keys): a conductor when Pm >= 0.5 (Fresnel = Kd), plastic otherwise (diffuse Kd, specular
-/// tint Ks, 1 when absent). Else the seed's models: Phong when Ks > 0, Lambert otherwise.
+/// The kind: `illum` 4, 6 or 7, or a `Tf`: dielectric (glass), with `thin 1` a thin sheet
+/// (smooth: `Pr` does not apply). Else `Pm` or `Pr` (the PBR
+/// keys): a conductor when Pm >= 0.5 (Fresnel = Kd, or Kd times the complex-index Fresnel of
+/// `eta`/`k` or of a `conductor NAME` preset), plastic otherwise (diffuse Kd, specular tint Ks,
+/// 1 when absent). Else the seed's models: Phong when Ks > 0, Lambert otherwise. `distribution`
+/// picks the rough models' microfacets (GGX when absent).
 fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
     let extras = extras.cloned().unwrap_or_default();
     // tobj 4 parses Ke itself; older versions left it among the unknown parameters.
@@ -906,13 +970,21 @@ fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
         bump_scale: extras.surface_map.as_ref().map_or(1.0, |s| s.bump_scale),
         ..Material::default()
     };
-    if glass {
+    if glass && extras.thin {
+        // Mitsuba's thindielectric is smooth only.
+        material.kind = MATERIAL_THIN_DIELECTRIC;
+    } else if glass {
         material.kind = MATERIAL_DIELECTRIC;
         material.alpha = r * r;
     } else if pbr {
         material.alpha = r * r;
         if extras.pm.unwrap_or(0.0) >= 0.5 {
             material.kind = MATERIAL_CONDUCTOR;
+            if let Some((eta, k)) = conductor_ior(&extras) {
+                material.eta = eta.to_array();
+                material.k = k.to_array();
+                material.fresnel = FRESNEL_CONDUCTOR;
+            }
         } else {
             material.kind = MATERIAL_PLASTIC;
             material.ks = m.specular.unwrap_or([1.0; 3]);
@@ -922,5 +994,17 @@ fn material_from(m: &tobj::Material, extras: Option<&MtlExtras>) -> Material {
     } else {
         material.kind = MATERIAL_LAMBERT;
     }
+    material.distribution = extras.distribution.unwrap_or_default() as u32;
     material
+}
+
+/// A conductor's complex index from its MTL keys: `eta` and `k` (a missing one is Mitsuba's
+/// default: eta 0, k 1), else the `conductor` preset's; `None` without any (Fresnel 1).
+fn conductor_ior(extras: &MtlExtras) -> Option<(Vec3, Vec3)> {
+    if extras.eta.is_some() || extras.k.is_some() {
+        let eta = extras.eta.map_or(Vec3::ZERO, Vec3::from);
+        let k = extras.k.map_or(Vec3::ONE, Vec3::from);
+        return Some((eta, k));
+    }
+    extras.conductor_ior
 }

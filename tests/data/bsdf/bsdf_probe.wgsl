@@ -16,6 +16,10 @@ struct Query {
     wi: vec4<f32>,
     // u.xy, u_lobe, and the rough plastic's table index in `materials` (its bits).
     u: vec4<f32>,
+    // The conductor's eta and the microfacet distribution (its bits), its k and Fresnel term
+    // (its bits).
+    eta_distribution: vec4<f32>,
+    k_fresnel: vec4<f32>,
 }
 
 struct Answer {
@@ -40,7 +44,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let q = queries[i];
     let b = Bsdf(bitcast<u32>(q.kd_kind.w), q.kd_kind.xyz, q.ks_ns.xyz, q.ks_ns.w, q.n_alpha.w,
-        q.tf_ior.w, q.tf_ior.xyz, bitcast<u32>(q.u.w));
+        q.tf_ior.w, q.tf_ior.xyz, bitcast<u32>(q.u.w), bitcast<u32>(q.eta_distribution.w),
+        bitcast<u32>(q.k_fresnel.w), q.eta_distribution.xyz, q.k_fresnel.xyz);
     let n = q.n_alpha.xyz;
     let outside = q.wo_outside.w != 0.0;
     let wo = q.wo_outside.xyz;
