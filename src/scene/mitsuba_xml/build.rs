@@ -240,12 +240,14 @@ fn geometry(builder: &Builder, plugin: &Plugin) -> Result<Geometry, SceneError> 
 
 impl Builder {
     fn shape_bsdf(&mut self, plugin: &Plugin) -> Result<Bsdf, SceneError> {
+        let emits = plugin.children.iter().any(|c| c.plugin.class == "emitter");
         Ok(match plugin.child_of("bsdf")? {
-            // Mitsuba's default: a diffuse of reflectance 0.5.
+            // Mitsuba's default: a diffuse of reflectance 0.5, or 0 on an emitter (its light
+            // reflects nothing, as the references show: a lit card's pixels are its radiance).
             None => Bsdf {
-                material: Material::diffuse([0.5; 3]),
+                material: Material::diffuse([if emits { 0.0 } else { 0.5 }; 3]),
                 to_uv: None,
-                one_sided: true,
+                one_sided: !emits,
                 null: false,
             },
             Some(c) => bsdf(self, &c.plugin)?,

@@ -150,9 +150,18 @@ impl Plugin {
         match self.property(name) {
             None => Ok(None),
             Some(p) => match p.value {
-                Value::Transform(m) => Ok(Some((m, p.at.clone()))),
+                Value::Transform(m, _) => Ok(Some((m, p.at.clone()))),
                 _ => Err(self.wrong_type(p, "a <transform>")),
             },
+        }
+    }
+
+    /// A transform's lookat (origin, target, up) as written, when it ends in one (see
+    /// [`Value::Transform`]).
+    pub fn lookat(&self, name: &str) -> Option<[DVec3; 3]> {
+        match self.property(name)?.value {
+            Value::Transform(_, lookat) => lookat,
+            _ => None,
         }
     }
 

@@ -58,7 +58,10 @@ pub enum Value {
     Spectrum(SpectrumValue),
     Point(DVec3),
     Vector(DVec3),
-    Transform(DMat4),
+    /// The matrix, and the lookat's (origin, target, up) as written when the transform ends
+    /// in a `lookat` with only scales before it: a camera then takes them as they are, so
+    /// that its frame is the one written, to the last bit.
+    Transform(DMat4, Option<[DVec3; 3]>),
 }
 
 impl Value {
@@ -73,7 +76,7 @@ impl Value {
             Value::Spectrum(_) => "spectrum",
             Value::Point(_) => "point",
             Value::Vector(_) => "vector",
-            Value::Transform(_) => "transform",
+            Value::Transform(..) => "transform",
         }
     }
 }
@@ -557,7 +560,15 @@ impl Parser {
                         "<transform>: the matrix's last row must be 0 0 0 1 (projective transforms are not supported)",
                     ));
                 }
-                Value::Transform(m)
+                let lookat = match ops.split_last() {
+                    Some((TransformOp::LookAt { origin, target, up }, before))
+                        if before.iter().all(|op| matches!(op, TransformOp::Scale(_))) =>
+                    {
+                        Some([*origin, *target, *up])
+                    }
+                    _ => None,
+                };
+                Value::Transform(m, lookat)
             }
             _ => unreachable!("value() is called for property tags only"),
         })

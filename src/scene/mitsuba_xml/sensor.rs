@@ -163,13 +163,18 @@ pub fn sensor(plugin: &Plugin) -> Result<Sensor, SceneError> {
         }
     }
     let f = |v: DVec3| Vec3::new(v.x as f32, v.y as f32, v.z as f32);
-    let camera =
-        CameraDesc::with_projection(f(eye), f(eye + dir), f(up), projection).map_err(|e| {
-            SceneError::Camera {
-                at: plugin.at.location(),
-                source: e,
-            }
-        })?;
+    // A lookat's own points where the file has them (the same frame, without the rounding
+    // of target = eye + direction).
+    let (eye, target, up) = match plugin.lookat("to_world") {
+        Some([origin, target, up]) => (f(origin), f(target), f(up)),
+        None => (f(eye), f(eye + dir), f(up)),
+    };
+    let camera = CameraDesc::with_projection(eye, target, up, projection).map_err(|e| {
+        SceneError::Camera {
+            at: plugin.at.location(),
+            source: e,
+        }
+    })?;
 
     let film = plugin.child_of("film")?;
     let (size, filter, border_note) = match film {
