@@ -2,8 +2,8 @@
 //! Mitsuba 3.9.0 in tests/mitsuba_xml.rs):
 //!
 //! - one number v: a uniform spectrum. Outside an emitter it is the grey v. Inside one it is
-//!   the colour of a flat emission spectrum of value v: v times the equal-energy white in sRGB
-//!   (about 1.205, 0.948, 0.909).
+//!   the equal-energy white of luminance v, the XYZ colour (v, v, v) in linear sRGB (about
+//!   1.205 v, 0.948 v, 0.909 v).
 //! - `wavelength:value` pairs: the piecewise linear spectrum between the first and last
 //!   wavelength (zero outside), integrated against the CIE 1931 matching functions at 1000
 //!   points evenly spaced over 360-830 nm (a point's weight 470/1000 nm), scaled so that a unit
@@ -105,8 +105,8 @@ pub fn spectrum_to_rgb(spectrum: &SpectrumValue, in_emitter: bool) -> [f64; 3] {
     match spectrum {
         SpectrumValue::Uniform(v) => {
             if in_emitter {
-                let white = spectrum_list_to_srgb(&[CIE_MIN, CIE_MAX], &[1.0, 1.0], false, false);
-                white.map(|c| c * v)
+                // Mitsuba takes a flat emission spectrum as the XYZ colour (v, v, v).
+                xyz_to_srgb([*v; 3])
             } else {
                 [*v; 3]
             }
