@@ -411,6 +411,12 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                     })?
             };
             let used = texture(builder, &texture_child.plugin)?;
+            if bump && !used.default_lookup {
+                return Err(plugin.error_at(
+                    &texture_child.at,
+                    "a bump map's height field must be a bitmap looked up bilinear with wrap_mode repeat (passgraph's slope assumes them)",
+                ));
+            }
             join_to_uv(plugin, &texture_child.at, &mut b.to_uv, &used)?;
             // passgraph models Mitsuba's defaults for these two (flipping normals that face
             // away, and the shadowing of the terminator); the other settings it does not model.

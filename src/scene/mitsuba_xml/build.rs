@@ -15,7 +15,7 @@ use crate::scene::error::SceneError;
 use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
 use crate::scene::gpu::Material;
 use crate::scene::mesh::{MAX_COORDINATE, Mesh, MeshTriangle, load_obj, load_ply_with_attributes};
-use crate::scene::texture::{Encoding, Texture};
+use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -28,7 +28,7 @@ pub struct Builder {
     materials: Vec<Material>,
     material_names: Vec<String>,
     textures: Vec<Texture>,
-    texture_index: HashMap<(PathBuf, Encoding), u32>,
+    texture_index: HashMap<(PathBuf, Encoding, Filter, Wrap), u32>,
     pub lights: Vec<AnalyticLight>,
     pub environment: Option<Environment>,
     warnings: Vec<String>,
@@ -51,17 +51,31 @@ impl Builder {
         resolve_file(&self.search, name, at)
     }
 
-    /// The index of an image in the scene's textures, loaded once per (file, encoding).
-    pub fn texture(&mut self, path: &Path, encoding: Encoding) -> Result<u32, String> {
-        let key = (path.to_path_buf(), encoding);
+    /// The index of an image in the scene's textures, loaded once per (file, encoding,
+    /// lookup).
+    pub fn texture(
+        &mut self,
+        path: &Path,
+        encoding: Encoding,
+        filter: Filter,
+        wrap: Wrap,
+    ) -> Result<u32, String> {
+        let key = (path.to_path_buf(), encoding, filter, wrap);
         if let Some(&i) = self.texture_index.get(&key) {
             return Ok(i);
         }
-        let t = load_texture(path, encoding)?;
-        let i = self.textures.len() as u32;
-        self.textures.push(t);
+        let mut t = load_texture(path, encoding)?;
+        t.filter = filter;
+        t.wrap = wrap;
+        let i = self.add_texture(t);
         self.texture_index.insert(key, i);
         Ok(i)
+    }
+
+    /// Adds a texture made by the loader (a checkerboard's).
+    pub fn add_texture(&mut self, t: Texture) -> u32 {
+        self.textures.push(t);
+        (self.textures.len() - 1) as u32
     }
 
     /// The index of a material, shared with an identical one.
@@ -153,7 +167,11 @@ fn mesh_geometry(mesh: &Mesh, flip_v: bool) -> Geometry {
 
 /// A shape's own geometry in world space (before its `to_world` for `instance`s' groups: the
 /// caller passes the group's), and whether it is a mesh (its normals as the file has them).
-fn geometry(builder: &Builder, plugin: &Plugin) -> Result<Geometry, SceneError> {
+fn geometry(
+    builder: &Builder,
+    plugin: &Plugin,
+    warnings: &mut Vec<String>,
+) -> Result<Geometry, SceneError> {
     let kind = plugin.kind.as_str();
     let to_world = plugin
         .transform("to_world")?
@@ -213,6 +231,25 @@ fn geometry(builder: &Builder, plugin: &Plugin) -> Result<Geometry, SceneError> 
             let m = to_world
                 * DMat4::from_translation(center)
                 * DMat4::from_scale(DVec3::splat(radius));
+            // Mitsuba's sphere is a sphere whatever to_world does: its centre is where the
+            // matrix takes the origin and its radius the length it gives the x axis (a
+            // non-uniform scale or a shear is dropped, as Mitsuba's own images show).
+            let x = m.transform_vector3(DVec3::X);
+            let r = x.length();
+            let c = m.transform_point3(DVec3::ZERO);
+            let uniform = [DVec3::Y, DVec3::Z].iter().all(|&a| {
+                let a = m.transform_vector3(a);
+                (a.length() - r).abs() <= 1e-9 * r && a.dot(x).abs() <= 1e-9 * r * r
+            });
+            let m = if uniform {
+                m
+            } else {
+                warnings.push(format!(
+                    "{}: sphere: to_world scales or shears it unevenly; like Mitsuba, passgraph renders a sphere of radius {r} (the length of its x axis) at {c}",
+                    plugin.at.location()
+                ));
+                DMat4::from_translation(c) * DMat4::from_scale(DVec3::splat(r))
+            };
             shapes::sphere().transformed(&m, true)
         }
         "cylinder" => {
@@ -270,7 +307,9 @@ impl Builder {
             "instance" => return self.instance(plugin),
             _ => {}
         }
-        let geometry = geometry(self, plugin)?;
+        let mut warnings = Vec::new();
+        let geometry = geometry(self, plugin, &mut warnings)?;
+        self.warnings.extend(warnings);
         let b = self.shape_bsdf(plugin)?;
         let mut material = b.material;
         if let Some(e) = plugin.child_of("emitter")? {
@@ -307,7 +346,9 @@ impl Builder {
             if s.children.iter().any(|c| c.plugin.class == "emitter") {
                 return Err(s.error("a shape in a shapegroup cannot emit (as in Mitsuba)"));
             }
-            let g = geometry(self, s)?;
+            let mut warnings = Vec::new();
+            let g = geometry(self, s, &mut warnings)?;
+            self.warnings.extend(warnings);
             let b = self.shape_bsdf(s)?;
             s.finish()?;
             self.note_one_sided(&b, s);
