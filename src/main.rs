@@ -81,8 +81,11 @@ enum Command {
     /// Write the scene for Mitsuba 3: DIR/scene.xml (parameters $spp, $sampler_type,
     /// $max_depth, $seed with defaults) and one OBJ per material.
     MitsubaScene {
-        /// The scene file (RON naming a mesh and a camera).
+        /// The scene file (RON naming a mesh and a camera, or a Mitsuba XML scene).
         scene: PathBuf,
+        /// A Mitsuba XML scene's parameter, as `mitsuba -D`.
+        #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+        define: Vec<(String, String)>,
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
@@ -117,15 +120,19 @@ struct RenderArgs {
     /// The graph to run.
     #[arg(long, default_value = DEFAULT_GRAPH)]
     graph: PathBuf,
-    /// The scene file (RON naming a mesh and a camera).
+    /// The scene file: RON naming a mesh and a camera, or a Mitsuba 3 scene (.xml).
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    define: Vec<(String, String)>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
-    /// Frames to accumulate (one sample per pixel each).
-    #[arg(long, default_value_t = RenderSettings::DEFAULT_MAX_FRAMES, value_parser = parse_frames)]
-    frames: u32,
+    /// Frames to accumulate (one sample per pixel each); default: a Mitsuba scene's sampler
+    /// sample_count, else 1000.
+    #[arg(long, value_parser = parse_frames)]
+    frames: Option<u32>,
     /// Render only the samples (frame indices) A to B-1 of the accumulation `--frames B` would
     /// render, e.g. 64..128: same seeds and sampler dimensions, so partials of ranges merge
     /// into the whole render (`passgraph merge`).
@@ -136,9 +143,9 @@ struct RenderArgs {
     /// merge`: of --samples A..B, or of 0..N with --frames N. No image unless --out is given.
     #[arg(long, value_name = "PART.exr", conflicts_with = "camera_path")]
     partial: Option<PathBuf>,
-    /// Image size, WxH.
-    #[arg(long, default_value = "256x256", value_parser = parse_size)]
-    size: [u32; 2],
+    /// Image size, WxH; default: a Mitsuba scene's film size, else 256x256.
+    #[arg(long, value_parser = parse_size)]
+    size: Option<[u32; 2]>,
     /// Render in tiles of WxH (sides multiples of 8), one after another, bit for bit the
     /// whole image; without it, only an image over the device's limits is tiled.
     #[arg(long, value_parser = parse_size, conflicts_with_all = ["camera_path", "partial"])]
@@ -199,6 +206,9 @@ struct ViewArgs {
     graph: PathBuf,
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    define: Vec<(String, String)>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
@@ -224,6 +234,9 @@ struct ViewArgs {
 struct BenchArgs {
     #[arg(long, default_value = DEFAULT_SCENE)]
     scene: PathBuf,
+    /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    define: Vec<(String, String)>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
@@ -366,7 +379,13 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
     };
     // The scene, and every variant's graph, params and channel, are checked before the first
     // variant renders.
-    let scene = passgraph::scene::load_scene(&args.scene).map_err(|e| e.to_string())?;
+    let scene_options = passgraph::scene::SceneOptions {
+        defines: args.define.clone(),
+        max_depth: None,
+    };
+    let scene = passgraph::scene::load_scene_with(&args.scene, &scene_options)
+        .map_err(|e| e.to_string())?
+        .scene;
     for warning in &scene.mesh.warnings {
         eprintln!("warning: {warning}");
     }
@@ -393,6 +412,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
             max_frames: u32::MAX,
             keep: Keep::Outputs,
             max_depth: args.max_depth,
+            defines: args.define.clone(),
         };
         eprintln!("bench {label} ...");
         let r =
@@ -514,7 +534,32 @@ fn render_camera_path(
     Ok(rows)
 }
 
+/// `--size` and `--frames`, or where not given a Mitsuba scene's film size and sample count,
+/// else 256x256 and 1000 frames.
+fn render_size_and_frames(args: &RenderArgs) -> Result<([u32; 2], u32), Failure> {
+    let film = if (args.size.is_none() || args.frames.is_none())
+        && passgraph::scene::is_mitsuba_xml(&args.scene)
+    {
+        Some(
+            passgraph::scene::mitsuba_xml::film_defaults(&args.scene, &args.define)
+                .map_err(|e| e.to_string())?,
+        )
+    } else {
+        None
+    };
+    let size = args
+        .size
+        .or(film.map(|f| f.0))
+        .unwrap_or(RenderSettings::DEFAULT_SIZE);
+    let frames = args
+        .frames
+        .or(film.map(|f| f.1))
+        .unwrap_or(RenderSettings::DEFAULT_MAX_FRAMES);
+    Ok((size, frames))
+}
+
 fn render(mut args: RenderArgs) -> Result<(), Failure> {
+    let (size, frames) = render_size_and_frames(&args)?;
     // Everything that can be checked before rendering is: a mistake should not cost the frames.
     if args.error_csv.is_some() && args.camera_path.is_none() {
         return Err(Failure::Usage(
@@ -524,7 +569,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     // The frames to render: a range of samples, or 0..--frames.
     let range = args.samples.unwrap_or(SampleRange {
         start: 0,
-        end: args.frames,
+        end: frames,
     });
     if range.len() > MAX_RANGE {
         return Err(Failure::Usage(format!(
@@ -544,7 +589,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         check_output_path(path).map_err(Failure::Usage)?;
     }
     if let Some(tile) = args.tile {
-        passgraph::render::tiles::Tiling::new(args.size, tile).map_err(Failure::Usage)?;
+        passgraph::render::tiles::Tiling::new(size, tile).map_err(Failure::Usage)?;
     }
     if let Some(path) = &args.partial {
         check_partial_path(path, &args.out).map_err(Failure::Usage)?;
@@ -556,14 +601,14 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     let reference = match &args.reference {
         Some(path) => {
             let reference = RgbImage::read_exr(path)?;
-            if [reference.width, reference.height] != args.size {
+            if [reference.width, reference.height] != size {
                 return Err(format!(
                     "{}: the reference is {}x{} but --size is {}x{}",
                     path.display(),
                     reference.width,
                     reference.height,
-                    args.size[0],
-                    args.size[1]
+                    size[0],
+                    size[1]
                 )
                 .into());
             }
@@ -574,7 +619,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     let settings = RenderSettings {
         graph: args.graph,
         scene: args.scene,
-        size: args.size,
+        size: size,
         seed: args.seed,
         set: args.set,
         adapter: args.adapter.clone(),
@@ -587,6 +632,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         },
         keep: Keep::Outputs,
         max_depth: args.max_depth,
+        defines: args.define.clone(),
     };
     // A partial file reads the whole accumulation back: only an untiled session has one.
     let mut render = match &args.partial {
@@ -858,6 +904,19 @@ fn parse_seconds(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `NAME=VALUE` (a Mitsuba XML define).
+fn parse_define(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("'{s}' is not NAME=VALUE"))?;
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!(
+            "'{name}' is not a parameter name (letters, digits, _)"
+        ));
+    }
+    Ok((name.to_string(), value.to_string()))
+}
+
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -901,6 +960,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 // Any texture the graph computes can be shown.
                 keep: Keep::EveryTexture,
                 max_depth: a.max_depth,
+                defines: a.define,
             },
             window_scale: 2,
             script: a.script,
@@ -953,11 +1013,18 @@ fn run(cli: Cli) -> Result<(), Failure> {
         }
         Command::MitsubaScene {
             scene,
+            define,
             out,
             size,
             max_depth,
         } => {
-            let scene = passgraph::scene::load_scene(&scene).map_err(|e| e.to_string())?;
+            let options = passgraph::scene::SceneOptions {
+                defines: define,
+                max_depth: None,
+            };
+            let scene = passgraph::scene::load_scene_with(&scene, &options)
+                .map_err(|e| e.to_string())?
+                .scene;
             for warning in &scene.mesh.warnings {
                 eprintln!("warning: {warning}");
             }

@@ -16,7 +16,7 @@ use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::{Plan, ResourceKind};
 use crate::graph::set_param::set_param;
 use crate::scene::gpu::{Frame, GpuCamera};
-use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, load_scene};
+use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, SceneOptions, load_scene_with};
 use bytemuck::Zeroable;
 use std::path::PathBuf;
 use thiserror::Error;
@@ -50,6 +50,8 @@ pub struct RenderSettings {
     pub keep: Keep,
     /// Replaces the scene file's `max_depth` (the command line's `--max-depth`).
     pub max_depth: Option<u32>,
+    /// A Mitsuba XML scene's `NAME=VALUE` defines (the command line's `--define`).
+    pub defines: Vec<(String, String)>,
 }
 
 /// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
@@ -84,6 +86,7 @@ impl RenderSettings {
             max_frames: Self::DEFAULT_MAX_FRAMES,
             keep: Keep::Outputs,
             max_depth: None,
+            defines: Vec::new(),
         }
     }
 }
@@ -562,13 +565,11 @@ fn check_history_camera(plan: &Plan, scene: &Scene) -> Result<(), RenderError> {
 
 /// Loads `settings.scene` with `settings.max_depth` applied, and its GPU form.
 pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneGpu), RenderError> {
-    let mut scene = load_scene(&settings.scene)?;
-    if let Some(depth) = settings.max_depth {
-        scene.max_depth = depth;
-        crate::scene::file::check_depths(depth, scene.rr_depth).map_err(|e| {
-            RenderError::Other(format!("--max-depth for {}: {e}", settings.scene.display()))
-        })?;
-    }
+    let options = SceneOptions {
+        defines: settings.defines.clone(),
+        max_depth: settings.max_depth,
+    };
+    let scene = load_scene_with(&settings.scene, &options)?.scene;
     let gpu_scene = scene.to_gpu();
     Ok((scene, gpu_scene))
 }

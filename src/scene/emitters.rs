@@ -155,7 +155,9 @@ impl AnalyticLight {
                     .map(|c| luminance(Vec3::new(c[0], c[1], c[2])))
                     .sum::<f32>()
                     / texels.len() as f32;
-                textures.push(Texture::from_texels(texture.width, texture.height, texels));
+                let mut copy = Texture::from_texels(texture.width, texture.height, texels);
+                (copy.filter, copy.wrap) = (texture.filter, texture.wrap);
+                textures.push(copy);
                 (
                     record(
                         LIGHT_SPOT_TEXTURED,

@@ -105,4 +105,23 @@ pub enum SceneError {
 
     #[error("{}: the mesh has no triangles", path.display())]
     NoTriangles { path: PathBuf },
+
+    /// A Mitsuba XML plugin or parameter outside the supported subset, or a bad value: the
+    /// message says what is supported.
+    #[error("{at}: {plugin}: {message}")]
+    Mitsuba {
+        at: Location,
+        /// e.g. "bsdf 'roughconductor'".
+        plugin: String,
+        message: String,
+    },
+
+    /// A Mitsuba model that passgraph is still to gain (each named where the loader maps
+    /// BSDFs: src/scene/mitsuba_xml/bsdf.rs).
+    #[error("{at}: {plugin}: {feature} is not yet supported by passgraph")]
+    MitsubaNotYet {
+        at: Location,
+        plugin: String,
+        feature: String,
+    },
 }

@@ -343,13 +343,92 @@ fn vec3((x, y, z): (Number, Number, Number)) -> Vec3 {
     Vec3::new(x.0, y.0, z.0)
 }
 
-/// Reads a scene file and the mesh it names (and that mesh's materials).
+/// What the command line sets when a scene loads.
+#[derive(Clone, Debug, Default)]
+pub struct SceneOptions {
+    /// Mitsuba XML `NAME=VALUE` defines (`--define`, as `mitsuba -D`): they replace the
+    /// file's `<default>`s.
+    pub defines: Vec<(String, String)>,
+    /// Replaces the file's `max_depth` (`--max-depth`).
+    pub max_depth: Option<u32>,
+}
+
+/// A scene and what its file says about the render: a Mitsuba XML scene's film size and
+/// sample count (the defaults of `--size` and `--frames`; none for RON scenes).
+#[derive(Clone, Debug)]
+pub struct LoadedScene {
+    pub scene: Scene,
+    pub film_size: Option<[u32; 2]>,
+    pub sample_count: Option<u32>,
+}
+
+/// Whether a scene path is a Mitsuba XML scene (by its extension, any case).
+pub fn is_mitsuba_xml(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+}
+
+/// Loads a RON scene or (`.xml`) a Mitsuba 3 scene with `options` applied.
+pub fn load_scene_with(path: &Path, options: &SceneOptions) -> Result<LoadedScene, SceneError> {
+    let loaded = load_scene_unchecked(path, options)?;
+    if options.max_depth.is_some() {
+        check_depths(loaded.scene.max_depth, loaded.scene.rr_depth).map_err(|message| {
+            SceneError::Syntax {
+                at: Location {
+                    path: path.to_path_buf(),
+                    line: None,
+                    item: None,
+                },
+                message: format!("--max-depth: {message}"),
+            }
+        })?;
+    }
+    Ok(loaded)
+}
+
+fn load_scene_unchecked(path: &Path, options: &SceneOptions) -> Result<LoadedScene, SceneError> {
+    if is_mitsuba_xml(path) {
+        let built = super::mitsuba_xml::load_mitsuba_xml(path, options)?;
+        return Ok(LoadedScene {
+            scene: built.scene,
+            film_size: Some(built.film_size),
+            sample_count: Some(built.sample_count),
+        });
+    }
+    if !options.defines.is_empty() {
+        return Err(SceneError::Syntax {
+            at: Location {
+                path: path.to_path_buf(),
+                line: None,
+                item: None,
+            },
+            message: "--define applies to Mitsuba XML scenes only".into(),
+        });
+    }
+    let mut scene = load_ron_scene(path)?;
+    if let Some(d) = options.max_depth {
+        scene.max_depth = d;
+    }
+    Ok(LoadedScene {
+        scene,
+        film_size: None,
+        sample_count: None,
+    })
+}
+
+/// Reads a scene file: RON, or a Mitsuba 3 XML scene (`.xml`, see
+/// [`super::mitsuba_xml`]) without defines.
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    load_scene_with(path, &SceneOptions::default()).map(|l| l.scene)
+}
+
+/// Reads a RON scene file and the mesh it names (and that mesh's materials).
 ///
 /// Errors: the file cannot be read; RON syntax or schema (file:line:col); an invalid camera
 /// (eye at target, up parallel to the view, fov outside (0, 180), a lens or orthographic width
 /// that is not a finite number > 0, half a lens); an invalid filter size; any mesh error (see
 /// [`load_mesh`]).
-pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+fn load_ron_scene(path: &Path) -> Result<Scene, SceneError> {
     let text = crate::text_file::read_utf8(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,

@@ -5,6 +5,8 @@ use super::gpu::Material;
 use super::texture::Texture;
 use super::{obj, ply};
 use glam::{Vec2, Vec3};
+pub(crate) use obj::load_obj;
+pub(crate) use ply::load_ply_with_attributes;
 use std::path::{Path, PathBuf};
 
 /// One triangle in file order; `material` indexes [`Mesh::materials`].

@@ -20,6 +20,7 @@ pub mod lights;
 pub mod material_tables;
 pub mod mesh;
 pub mod mitsuba;
+pub mod mitsuba_xml;
 mod obj;
 mod ply;
 pub mod regions;
@@ -30,7 +31,10 @@ pub use bvh::{Bvh, BvhStats};
 pub use bvh_grid::BvhGrid;
 pub use camera::{CameraDesc, CameraError, CameraKind, FovAxis, Lens, Projection};
 pub use error::{Location, SceneError};
-pub use file::{DEFAULT_SCENE, MAX_MAX_DEPTH, Scene, check_max_depth, load_scene};
+pub use file::{
+    DEFAULT_SCENE, LoadedScene, MAX_MAX_DEPTH, Scene, SceneOptions, check_max_depth,
+    is_mitsuba_xml, load_scene, load_scene_with,
+};
 pub use filter::PixelFilter;
 pub use gpu::{
     BvhNode, Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, Frame, GpuBvhGrid, GpuCamera,

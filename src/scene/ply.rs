@@ -14,6 +14,17 @@ use std::io::BufReader;
 use std::path::Path;
 
 pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
+    load(path, false)
+}
+
+/// [`load_ply`] keeping the vertices' normals (`nx ny nz`) and texture coordinates (`u v`,
+/// `s t` or `texture_u texture_v`, as written) where every vertex has them: the Mitsuba XML
+/// loader's `ply` shape, whose meshes shade with them as Mitsuba does.
+pub fn load_ply_with_attributes(path: &Path) -> Result<Mesh, SceneError> {
+    load(path, true)
+}
+
+fn load(path: &Path, attributes: bool) -> Result<Mesh, SceneError> {
     let file = std::fs::File::open(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
@@ -56,6 +67,34 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
         }
         positions.push(Vec3::from(p));
     }
+    let read3 = |names: [&str; 3]| -> Option<Vec<Vec3>> {
+        vertices
+            .iter()
+            .map(|v| {
+                let c = |n: &str| v.get(n).and_then(Property::to_f32_lossy);
+                Some(Vec3::new(c(names[0])?, c(names[1])?, c(names[2])?))
+            })
+            .collect()
+    };
+    let read2 = |names: [&str; 2]| -> Option<Vec<glam::Vec2>> {
+        vertices
+            .iter()
+            .map(|v| {
+                let c = |n: &str| v.get(n).and_then(Property::to_f32_lossy);
+                Some(glam::Vec2::new(c(names[0])?, c(names[1])?))
+            })
+            .collect()
+    };
+    let (normals, uvs) = if attributes && !vertices.is_empty() {
+        (
+            read3(["nx", "ny", "nz"]),
+            read2(["u", "v"])
+                .or_else(|| read2(["s", "t"]))
+                .or_else(|| read2(["texture_u", "texture_v"])),
+        )
+    } else {
+        (None, None)
+    };
 
     let faces = payload.get("face").unwrap_or(&empty);
     let mut triangles = Vec::with_capacity(faces.len());
@@ -72,6 +111,7 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
             message: "face vertex indices must be non-negative integers".to_string(),
         })?;
         let mut corners = Vec::with_capacity(indices.len());
+        let mut corner_indices = Vec::with_capacity(indices.len());
         for &index in &indices {
             let vertex =
                 positions
@@ -86,8 +126,19 @@ pub fn load_ply(path: &Path) -> Result<Mesh, SceneError> {
                         },
                     })?;
             corners.push(*vertex);
+            corner_indices.push(index as usize);
         }
-        triangles.extend(fan_triangulate(&corners).map(|vertices| MeshTriangle::flat(vertices, 0)));
+        triangles.extend(fan_triangulate(&corner_indices).map(|ix| {
+            MeshTriangle {
+                vertices: ix.map(|i| positions[i]),
+                material: 0,
+                normals: normals
+                    .as_ref()
+                    .map(|n| ix.map(|i| n[i].normalize_or(Vec3::Z))),
+                uvs: uvs.as_ref().map(|uv| ix.map(|i| uv[i])),
+            }
+        }));
+        let _ = &corners;
     }
 
     Ok(Mesh {

@@ -13,6 +13,42 @@ pub enum Encoding {
     Raw,
 }
 
+/// How a lookup between texels filters: Mitsuba's bitmap `filter_type`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Filter {
+    /// Between the four nearest texel centres (Mitsuba's default; MTL maps always).
+    #[default]
+    Bilinear,
+    /// The texel the point lies in.
+    Nearest,
+}
+
+/// What texel indices outside the image read: Mitsuba's bitmap `wrap_mode`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    /// The image tiles the plane (Mitsuba's default; MTL maps always).
+    #[default]
+    Repeat,
+    /// Every other tile is mirrored.
+    Mirror,
+    /// The edge texels extend outward.
+    Clamp,
+}
+
+impl Wrap {
+    /// Texel index `i` of an axis of `size` texels, wrapped (drjit's texture `wrap`).
+    pub fn index(self, i: i64, size: i64) -> i64 {
+        match self {
+            Wrap::Repeat => i.rem_euclid(size),
+            Wrap::Clamp => i.clamp(0, size - 1),
+            Wrap::Mirror => {
+                let r = i.rem_euclid(2 * size);
+                if r >= size { 2 * size - 1 - r } else { r }
+            }
+        }
+    }
+}
+
 /// A decoded image; `texels` row-major with row 0 the image's top row (as files store it).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
@@ -20,6 +56,8 @@ pub struct Texture {
     pub encoding: Encoding,
     pub width: u32,
     pub height: u32,
+    pub filter: Filter,
+    pub wrap: Wrap,
     /// Linear RGBA; a grey image has r = g = b; alpha is 1 when the image has none.
     pub texels: Vec<[f32; 4]>,
 }
@@ -68,6 +106,8 @@ impl Texture {
             encoding,
             width,
             height,
+            filter: Filter::Bilinear,
+            wrap: Wrap::Repeat,
             texels,
         })
     }
@@ -80,23 +120,44 @@ impl Texture {
             encoding: Encoding::Raw,
             width,
             height,
+            filter: Filter::Bilinear,
+            wrap: Wrap::Repeat,
             texels,
         }
     }
 
     fn texel(&self, x: i64, y: i64) -> Vec4 {
-        // Repeat: integer texel coordinates wrap around the image.
-        let x = x.rem_euclid(i64::from(self.width)) as usize;
-        let y = y.rem_euclid(i64::from(self.height)) as usize;
+        let x = self.wrap.index(x, i64::from(self.width)) as usize;
+        let y = self.wrap.index(y, i64::from(self.height)) as usize;
         Vec4::from(self.texels[y * self.width as usize + x])
+    }
+
+    /// The header word `shaders/lib/texture.wgsl` reads the lookup from: bit 0 nearest,
+    /// bits 1-2 the wrap mode (0 repeat, 1 mirror, 2 clamp).
+    pub fn mode_bits(&self) -> u32 {
+        let filter = match self.filter {
+            Filter::Bilinear => 0,
+            Filter::Nearest => 1,
+        };
+        let wrap = match self.wrap {
+            Wrap::Repeat => 0,
+            Wrap::Mirror => 1,
+            Wrap::Clamp => 2,
+        };
+        filter | wrap << 1
     }
 
     /// The CPU twin of `texture_bilinear` in `shaders/lib/texture.wgsl`: Mitsuba 3's bitmap
     /// lookup. Its texture space has v pointing down the rows (its OBJ loader stores 1 - v),
     /// texel centres at half-integers: p = (u, 1 - v) * size - 0.5, the four texels around p
     /// weighted by p's fraction, their indices wrapped.
+    /// With [`Filter::Nearest`], the texel (u, 1 - v) * size lies in.
     pub fn bilinear(&self, uv: Vec2) -> Vec4 {
         let size = Vec2::new(self.width as f32, self.height as f32);
+        if self.filter == Filter::Nearest {
+            let p = (Vec2::new(uv.x, 1.0 - uv.y) * size).floor();
+            return self.texel(p.x as i64, p.y as i64);
+        }
         let p = Vec2::new(uv.x, 1.0 - uv.y).mul_add(size, Vec2::splat(-0.5));
         let i = p.floor();
         let w1 = p - i;
@@ -125,14 +186,15 @@ impl Texture {
     }
 }
 
-/// The `scene.textures` buffer: one header texel per texture (first texel, width, height, 0),
+/// The `scene.textures` buffer: one header texel per texture (first texel, width, height, the
+/// lookup's [`Texture::mode_bits`]),
 /// then every texture's texels (linear RGBA f32, row 0 the image's top row). One zero texel
 /// when there are none, so that the view can be bound.
 pub fn textures_bytes(textures: &[Texture]) -> Vec<u8> {
     let mut header: Vec<[u32; 4]> = Vec::with_capacity(textures.len());
     let mut first = textures.len() as u32;
     for t in textures {
-        header.push([first, t.width, t.height, 0]);
+        header.push([first, t.width, t.height, t.mode_bits()]);
         first += t.width * t.height;
     }
     let mut bytes: Vec<u8> = bytemuck::cast_slice(&header).to_vec();
