@@ -439,48 +439,63 @@ fn a_bad_value_and_a_missing_file_are_errors_at_their_lines() {
 }
 
 #[test]
-fn models_passgraph_lacks_yet_are_not_yet_errors_and_beckmann_is_not_read_as_ggx() {
+fn rough_models_default_to_beckmann_and_conductors_take_presets_eta_k_and_thin_sheets() {
+    use passgraph::scene::gpu::{Distribution, FRESNEL_CONDUCTOR, MATERIAL_THIN_DIELECTRIC};
     let dir = tempfile::tempdir().unwrap();
-    for (body, feature) in [
+    let material = |body: &str| {
+        let path = scene_file(dir.path(), body);
+        load(&path, &[])
+            .unwrap_or_else(|e| panic!("{body}: {e}"))
+            .scene
+            .mesh
+            .materials[0]
+    };
+    // Mitsuba's default distribution is Beckmann: it must not be read as GGX.
+    for (body, want) in [
         (
             r#"<shape type="sphere"><bsdf type="roughconductor"/></shape>"#,
-            "Beckmann",
+            Distribution::Beckmann,
         ),
         (
             r#"<shape type="sphere"><bsdf type="roughplastic"><string name="distribution" value="beckmann"/></bsdf></shape>"#,
-            "Beckmann",
+            Distribution::Beckmann,
         ),
         (
-            r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>"#,
-            "preset 'Au'",
-        ),
-        (
-            r#"<shape type="sphere"><bsdf type="conductor"><rgb name="eta" value="0.2"/><rgb name="k" value="3"/></bsdf></shape>"#,
-            "eta, k",
-        ),
-        (
-            r#"<shape type="sphere"><bsdf type="thindielectric"/></shape>"#,
-            "thindielectric",
+            r#"<shape type="sphere"><bsdf type="roughdielectric"><string name="distribution" value="ggx"/></bsdf></shape>"#,
+            Distribution::Ggx,
         ),
     ] {
-        let path = scene_file(dir.path(), body);
-        match load(&path, &[]) {
-            Err(e @ SceneError::MitsubaNotYet { .. }) => {
-                assert!(e.to_string().contains(feature), "{e}")
-            }
-            other => panic!(
-                "{body}: expected a not-yet error, got {:?}",
-                other.map(|_| ())
-            ),
-        }
+        assert_eq!(material(body).distribution, want as u32, "{body}");
     }
-    // With distribution ggx the rough models load.
+    let gold = material(
+        r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>"#,
+    );
+    let (eta, k) = passgraph::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+    assert_eq!(
+        (gold.fresnel, gold.eta, gold.k),
+        (FRESNEL_CONDUCTOR, eta.to_array(), k.to_array())
+    );
+    let written = material(
+        r#"<shape type="sphere"><bsdf type="conductor"><rgb name="eta" value="0.2"/><rgb name="k" value="3, 2, 1"/></bsdf></shape>"#,
+    );
+    assert_eq!((written.eta, written.k), ([0.2; 3], [3.0, 2.0, 1.0]));
+    // Mitsuba's "none" is a mirror tinted by specular_reflectance alone.
+    let none = material(
+        r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>"#,
+    );
+    assert_ne!(none.fresnel, FRESNEL_CONDUCTOR);
+    let sheet = material(
+        r#"<shape type="sphere"><bsdf type="thindielectric"><float name="int_ior" value="1.5"/></bsdf></shape>"#,
+    );
+    // int_ior over Mitsuba's "air", 1.000277.
+    assert_eq!(sheet.kind, MATERIAL_THIN_DIELECTRIC);
+    assert!((sheet.ior - 1.5 / 1.000_277).abs() < 1e-6, "{}", sheet.ior);
     let path = scene_file(
         dir.path(),
-        r#"<shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/></bsdf></shape>"#,
+        r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf></shape>"#,
     );
-    let s = load(&path, &[]).unwrap().scene;
-    assert_eq!(s.mesh.materials[0].alpha, 0.2);
+    let e = error_of(&path);
+    assert!(e.contains("Unobtainium") && e.contains("Au"), "{e}");
 }
 
 /// Every conformance scene loads, or fails with the error documented here (the models
@@ -488,18 +503,9 @@ fn models_passgraph_lacks_yet_are_not_yet_errors_and_beckmann_is_not_read_as_ggx
 #[test]
 fn every_conformance_scene_loads_or_fails_with_its_documented_error() {
     let expected_failures: &[(&str, &str)] = &[
-        ("bumpmap", "conductor material preset 'Cu'"),
-        ("conductor", "conductor material preset 'Au'"),
-        ("direct", "Beckmann"),
-        ("envmap", "conductor material preset 'Al'"),
-        ("normalmap", "Beckmann"),
-        ("null", "max_depth -1"),
+        ("null", "an area emitter on a null BSDF"),
         ("plastic", "nonlinear true is not supported"),
-        ("roughconductor_beckmann", "conductor material preset 'Ag'"),
-        ("roughconductor_ggx", "conductor material preset 'Ag'"),
-        ("roughdielectric", "Beckmann"),
         ("roughplastic", "nonlinear true is not supported"),
-        ("thindielectric", "thindielectric BSDF"),
         ("twosided", "twosided with two BSDFs"),
     ];
     let mut loaded = Vec::new();
@@ -519,7 +525,7 @@ fn every_conformance_scene_loads_or_fails_with_its_documented_error() {
             }
         }
     }
-    assert_eq!(loaded.len(), 21, "{loaded:?}");
+    assert_eq!(loaded.len(), 30, "{loaded:?}");
 }
 
 /// A small render of conformance scenes against their references: the mean over the image

@@ -115,13 +115,4 @@ pub enum SceneError {
         plugin: String,
         message: String,
     },
-
-    /// A Mitsuba model that passgraph is still to gain (each named where the loader maps
-    /// BSDFs: src/scene/mitsuba_xml/bsdf.rs).
-    #[error("{at}: {plugin}: {feature} is not yet supported by passgraph")]
-    MitsubaNotYet {
-        at: Location,
-        plugin: String,
-        feature: String,
-    },
 }

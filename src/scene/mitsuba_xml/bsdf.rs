@@ -16,20 +16,20 @@
 //! such a surface is not seen (closed shapes, walls seen from the front); the loader warns once
 //! per scene that has a bare one (see [`Bsdf::one_sided`]).
 //!
-//! Models passgraph is still to gain are each one error, marked `// Not yet: <model>`, in
-//! this file: the Beckmann distribution (Mitsuba's default for the rough models), conductors'
-//! complex Fresnel (`eta`/`k` and the named `material` presets), and `thindielectric`.
+//! The rough models' `distribution` is Beckmann unless the file says ggx (Mitsuba's default);
+//! conductors take `eta`/`k` or a named `material` preset (Mitsuba's RGB values,
+//! `src/bsdf/conductor_presets.rs`); `thindielectric` is passgraph's thin dielectric.
 
 use super::build::Builder;
 use super::params::ColorParam;
 use super::parse::{At, Plugin, Value};
 use super::textures::{TextureUse, texture};
+use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 use crate::scene::error::SceneError;
 use crate::scene::gpu::{
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE,
-    SURFACE_MAP_BUMP,
+    Distribution, MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
-use glam::DMat3;
+use glam::{DMat3, Vec3};
 use std::rc::Rc;
 
 /// A BSDF as a passgraph material.
@@ -161,25 +161,18 @@ fn color_or_texture(
     }
 }
 
-/// The `distribution` of a rough model: only GGX for now.
-fn distribution(plugin: &Plugin) -> Result<(), SceneError> {
+/// The `distribution` of a rough model: Mitsuba's default is Beckmann.
+fn distribution(plugin: &Plugin) -> Result<Distribution, SceneError> {
     let (name, at) = match plugin.string("distribution")? {
         Some(d) => d,
-        None => ("beckmann".to_string(), plugin.at.clone()),
+        None => return Ok(Distribution::Beckmann),
     };
-    match name.as_str() {
-        "ggx" => Ok(()),
-        // Not yet: Beckmann (Mitsuba's default distribution: without distribution="ggx" a
-        // rough BSDF is Beckmann, which must not silently become GGX).
-        "beckmann" => Err(plugin.not_yet(
+    Distribution::from_mitsuba_name(&name).ok_or_else(|| {
+        plugin.error_at(
             &at,
-            "the Beckmann microfacet distribution (Mitsuba's default; give distribution=\"ggx\" for GGX)",
-        )),
-        other => Err(plugin.error_at(
-            &at,
-            format!("distribution '{other}' is not one of Mitsuba's (beckmann, ggx)"),
-        )),
-    }
+            format!("distribution '{name}' is not one of Mitsuba's (beckmann, ggx)"),
+        )
+    })
 }
 
 /// `alpha`, or `alpha_u` = `alpha_v` (passgraph's GGX is isotropic); Mitsuba's default 0.1.
@@ -229,24 +222,39 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
         }
         "conductor" | "roughconductor" => {
             let rough = plugin.kind == "roughconductor";
-            if let Some((name, at)) = plugin.string("material")? {
-                if name != "none" {
-                    // Not yet: conductor presets (Mitsuba's named `material` spectra).
-                    return Err(plugin.not_yet(
+            // The complex index: eta and k as written, else the `material` preset (Mitsuba's
+            // default "none": Fresnel 1, the tint alone).
+            let preset = match plugin.string("material")? {
+                None => None,
+                Some((name, _)) if name == "none" => None,
+                Some((name, at)) => Some(conductor_preset(&name).ok_or_else(|| {
+                    plugin.error_at(
                         &at,
-                        format!("the conductor material preset '{name}' (complex Fresnel; material \"none\" is supported)"),
-                    ));
+                        format!(
+                            "conductor material '{name}' is not one of Mitsuba's presets ({}, none)",
+                            CONDUCTOR_PRESETS
+                                .iter()
+                                .map(|p| p.0)
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    )
+                })?),
+            };
+            let ior = match (plugin.has("eta"), plugin.has("k")) {
+                (false, false) => preset,
+                _ => {
+                    let (eta, k) = preset.unwrap_or((Vec3::ZERO, Vec3::ONE));
+                    let eta = plugin.constant_color("eta", eta.as_dvec3().to_array())?;
+                    let k = plugin.constant_color("k", k.as_dvec3().to_array())?;
+                    if eta.iter().chain(&k).any(|v| !v.is_finite() || *v < 0.0) {
+                        return Err(plugin.error(format!(
+                            "eta {eta:?} and k {k:?} must be finite and not negative"
+                        )));
+                    }
+                    Some((Vec3::from(f32s(eta)), Vec3::from(f32s(k))))
                 }
-            }
-            for name in ["eta", "k"] {
-                if plugin.has(name) {
-                    let at = plugin
-                        .property(name)
-                        .map_or(plugin.at.clone(), |p| p.at.clone());
-                    // Not yet: conductor complex Fresnel (eta, k).
-                    return Err(plugin.not_yet(&at, "a conductor's complex Fresnel (eta, k)"));
-                }
-            }
+            };
             let (kd, map_kd) = color_or_texture(
                 builder,
                 plugin,
@@ -254,17 +262,14 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 [1.0; 3],
                 &mut to_uv,
             )?;
-            let alpha = if rough {
-                distribution(plugin)?;
-                alpha(plugin)?
+            let (alpha, dist) = if rough {
+                (alpha(plugin)?, distribution(plugin)?)
             } else {
-                0.0
+                (0.0, Distribution::Ggx)
             };
             Material {
-                kind: MATERIAL_CONDUCTOR,
-                alpha,
                 map_kd,
-                ..Material::diffuse(kd)
+                ..Material::conductor(kd, alpha, dist, ior)
             }
         }
         "plastic" | "roughplastic" => {
@@ -287,14 +292,14 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 [1.0; 3],
                 &mut to_uv,
             )?;
-            let alpha = if rough {
-                distribution(plugin)?;
-                alpha(plugin)?
+            let (alpha, dist) = if rough {
+                (alpha(plugin)?, distribution(plugin)?)
             } else {
-                0.0
+                (0.0, Distribution::Ggx)
             };
             Material {
                 kind: MATERIAL_PLASTIC,
+                distribution: dist as u32,
                 ks,
                 map_ks,
                 ior: eta as f32,
@@ -313,24 +318,33 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 ));
             }
             let tf = plugin.constant_color("specular_transmittance", [1.0; 3])?;
-            let alpha = if rough {
-                distribution(plugin)?;
-                alpha(plugin)?
+            let (alpha, dist) = if rough {
+                (alpha(plugin)?, distribution(plugin)?)
             } else {
-                0.0
+                (0.0, Distribution::Ggx)
             };
             one_sided = false;
             Material {
                 kind: MATERIAL_DIELECTRIC,
+                distribution: dist as u32,
                 ior: eta as f32,
                 tf: f32s(tf),
                 alpha,
                 ..Material::diffuse([0.0; 3])
             }
         }
-        // Not yet: thindielectric.
         "thindielectric" => {
-            return Err(plugin.not_yet(&plugin.at, "the thindielectric BSDF"));
+            let eta = ior(plugin, "int_ior", "bk7")? / ior(plugin, "ext_ior", "air")?;
+            let reflectance = plugin.constant_color("specular_reflectance", [1.0; 3])?;
+            if reflectance != [1.0; 3] {
+                return Err(plugin.error(
+                    "specular_reflectance other than 1 is not supported (passgraph's thin dielectric reflects by Fresnel alone)",
+                ));
+            }
+            let tf = plugin.constant_color("specular_transmittance", [1.0; 3])?;
+            // Both faces alike, as Mitsuba's.
+            one_sided = false;
+            Material::thin_dielectric(eta as f32, f32s(tf))
         }
         "twosided" => {
             let inner = plugin.children_of("bsdf");

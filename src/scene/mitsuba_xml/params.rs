@@ -37,16 +37,6 @@ impl Plugin {
         }
     }
 
-    /// A model or parameter value that passgraph does not implement yet but will: one
-    /// message shape, so that callers and tests can tell it from an outright error.
-    pub fn not_yet(&self, at: &At, feature: impl Into<String>) -> SceneError {
-        SceneError::MitsubaNotYet {
-            at: at.location(),
-            plugin: self.what(),
-            feature: feature.into(),
-        }
-    }
-
     fn ask(&self, name: &str) {
         let mut asked = self.asked.borrow_mut();
         if !asked.iter().any(|a| a == name) {
