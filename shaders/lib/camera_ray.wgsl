@@ -54,9 +54,12 @@ fn camera_lens_sample(source: SampleSource) -> vec2<f32> {
     return sample_2d(source, DIM_LENS);
 }
 
-// The primary ray of `pixel` for `source`: its film sample (DIM_PIXEL) through the pixel filter,
-// or the pixel's centre when `jitter` is off, and its lens sample.
+// The primary ray of `pixel` for `source`: its film sample (DIM_PIXEL) through the pixel filter
+// (cut to the image, as Mitsuba's film), or the pixel's centre when `jitter` is off, and its
+// lens sample.
 fn camera_sample_ray(pixel: vec2<u32>, source: SampleSource, jitter: bool) -> CameraRay {
-    let u = select(vec2<f32>(0.5), pixel_filter_position(sample_2d(source, DIM_PIXEL)), jitter);
+    let corner = vec2<f32>(pixel + frame.image_origin);
+    let film = pixel_filter_position_in_image(sample_2d(source, DIM_PIXEL), corner, vec2<f32>(frame.image_size));
+    let u = select(vec2<f32>(0.5), film, jitter);
     return camera_ray(pixel, u, camera_lens_sample(source));
 }

@@ -22,6 +22,26 @@ fn filter_gaussian_integral(s: f32, x: f32) -> f32 {
     return s * 1.2533141 * filter_erf(x * 0.70710678 / s) - bias * x;
 }
 
+// The filter's CDF at offset x (0 at -radius, 1 at +radius; not the box's).
+fn filter_cdf(x: f32) -> f32 {
+    let r = select(scene_filter_size, 4.0 * scene_filter_size, scene_filter == FILTER_GAUSSIAN);
+    let c = clamp(x, -r, r);
+    if scene_filter == FILTER_GAUSSIAN {
+        let s = scene_filter_size;
+        return 0.5 + 0.5 * filter_gaussian_integral(s, c) / filter_gaussian_integral(s, r);
+    }
+    let t = 1.0 - abs(c) / r;
+    return select(1.0 - 0.5 * t * t, 0.5 * t * t, c < 0.0);
+}
+
+// u in [0, 1) squeezed into the CDF's values over the offsets [lo, hi], so that its inverse CDF
+// draws from the filter cut to that interval (renormalised). Where the interval holds the whole
+// filter the CDF is exactly 0 and 1 there and u stays as it is, bit for bit.
+fn filter_truncate(u: f32, lo: f32, hi: f32) -> f32 {
+    let a = filter_cdf(lo);
+    return a + u * (filter_cdf(hi) - a);
+}
+
 // The inverse CDF of the truncated Gaussian at u in [0, 1): the integral is increasing on
 // (-4s, 4s), so Newton steps stay inside a bisection bracket (a step out of it bisects).
 fn filter_gaussian_sample(u: f32) -> f32 {
@@ -62,4 +82,18 @@ fn pixel_filter_position(u: vec2<f32>) -> vec2<f32> {
         return vec2<f32>(0.5) + vec2<f32>(filter_tent_sample(u.x), filter_tent_sample(u.y));
     }
     return u;
+}
+
+// pixel_filter_position for the pixel whose top-left corner is `corner` in an image of `size`
+// pixels, its positions kept inside the image: Mitsuba's film draws samples only inside the
+// image and divides each pixel's weighted sum by its weights, so at the border its filter is
+// cut to the image and renormalised; so is this one (interior pixels: as before, bit for bit).
+fn pixel_filter_position_in_image(u: vec2<f32>, corner: vec2<f32>, size: vec2<f32>) -> vec2<f32> {
+    if scene_filter == FILTER_BOX {
+        return u;
+    }
+    // Offsets from the pixel's centre that keep corner + 0.5 + offset within [0, size].
+    let lo = -(corner + 0.5);
+    let hi = size - corner - 0.5;
+    return pixel_filter_position(vec2<f32>(filter_truncate(u.x, lo.x, hi.x), filter_truncate(u.y, lo.y, hi.y)));
 }

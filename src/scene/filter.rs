@@ -3,7 +3,10 @@
 //! within the filter's radius with those weights and divides by their sum; passgraph instead
 //! draws each pixel's sub-pixel offset from the normalised w itself (filter importance
 //! sampling, shaders/lib/pixel_filter.wgsl), which has the same expectation,
-//! ∫ w(x - p) L(x) dx / ∫ w, without splatting. [`PixelFilter::sample`] is the CPU mirror.
+//! ∫ w(x - p) L(x) dx / ∫ w, without splatting. Mitsuba's film has samples inside the image
+//! only, so at the border both integrals run over the image alone: passgraph cuts the filter
+//! to the image there too ([`PixelFilter::sample_within`]). [`PixelFilter::sample`] is the CPU
+//! mirror.
 
 /// A separable pixel filter, offsets in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -156,6 +159,17 @@ impl PixelFilter {
         }
     }
 
+    /// [`PixelFilter::sample`] cut to offsets in [lo, hi] (renormalised): u squeezed into the
+    /// CDF's values there first. The CPU mirror of pixel_filter.wgsl's `filter_truncate`: what
+    /// keeps a border pixel's film positions inside the image, as Mitsuba's film does.
+    pub fn sample_within(self, u: f32, lo: f32, hi: f32) -> f32 {
+        if self == PixelFilter::Box {
+            return self.sample(u);
+        }
+        let (a, b) = (self.cdf(f64::from(lo)), self.cdf(f64::from(hi)));
+        self.sample((a + f64::from(u) * (b - a)) as f32)
+    }
+
     /// Mitsuba's `<rfilter>` element.
     pub fn mitsuba_xml(self) -> String {
         match self {
@@ -234,6 +248,29 @@ mod tests {
                     assert!((sum / total - f.cdf(x)).abs() < 1e-4, "{f:?} at {x}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn samples_cut_to_an_interval_stay_in_it_with_the_renormalised_cdf() {
+        // A border pixel: the image ends 0.5 px to the left of its centre (and 0.2 px into the
+        // filter on the right for the wide ones).
+        for f in FILTERS.into_iter().filter(|f| *f != PixelFilter::Box) {
+            let (lo, hi) = (-0.5f32, 0.2 * f.radius() + 0.5);
+            let (a, b) = (f.cdf(f64::from(lo)), f.cdf(f64::from(hi)));
+            for i in 0..100 {
+                let u = (i as f32 + 0.5) / 100.0;
+                let x = f.sample_within(u, lo, hi);
+                assert!(x >= lo - 1e-5 && x <= hi + 1e-5, "{f:?} {u} -> {x}");
+                let back = (f.cdf(f64::from(x)) - a) / (b - a);
+                assert!(
+                    (back - f64::from(u)).abs() < 1e-5,
+                    "{f:?}: renormalised cdf({x}) = {back}, u {u}"
+                );
+            }
+            // An interval holding the whole filter leaves the samples as they were.
+            let r = f.radius();
+            assert_eq!(f.sample_within(0.3, -r - 1.0, r + 1.0), f.sample(0.3));
         }
     }
 
