@@ -225,7 +225,7 @@ fn geometry(
         "sphere" => {
             let center = plugin.point("center")?.unwrap_or(DVec3::ZERO);
             let radius = plugin.float_or("radius", 1.0)?;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(plugin.error(format!("radius {radius} must be positive")));
             }
             let m = to_world
@@ -256,7 +256,7 @@ fn geometry(
             let p0 = plugin.point("p0")?.unwrap_or(DVec3::ZERO);
             let p1 = plugin.point("p1")?.unwrap_or(DVec3::Z);
             let radius = plugin.float_or("radius", 1.0)?;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(plugin.error(format!("radius {radius} must be positive")));
             }
             let frame = shapes::cylinder_frame(p0, p1, radius)
