@@ -609,3 +609,42 @@ fn texture_lookups_wrap_and_filter_as_mitsubas_bitmap() {
     t.wrap = Wrap::Clamp;
     assert_eq!(t.bilinear(glam::Vec2::new(5.0, -3.0)).x, 4.0);
 }
+
+/// `render --scene X.xml` takes the film's size and the sampler's sample count unless
+/// `--size` and `--frames` are given, and `-D NAME=VALUE` replaces a `<default>`.
+#[test]
+fn render_takes_the_films_size_and_sample_count_and_defines() {
+    let out = tempfile::tempdir().unwrap();
+    let image = out.path().join("x.exr");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_passgraph"))
+            .current_dir(common::root())
+            .args(["render", "--scene"])
+            .arg(conformance("structure"))
+            .arg("--out")
+            .arg(&image)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let result = run(&["-D", "depth=2", "--frames", "2"]);
+    let printed = String::from_utf8_lossy(&result.stderr).to_string()
+        + &String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{printed}");
+    assert!(printed.contains("scene_max_depth=2"), "{printed}");
+    assert!(printed.contains("2 frames in"), "{printed}");
+    let img = passgraph::render::image::RgbImage::read_exr(&image).unwrap();
+    assert_eq!((img.width, img.height), (48, 48));
+    let result = run(&["--size", "8x4", "--frames", "1", "--define", "radius=0.3"]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let img = passgraph::render::image::RgbImage::read_exr(&image).unwrap();
+    assert_eq!((img.width, img.height), (8, 4));
+    // A define that is not NAME=VALUE is a usage error.
+    let result = run(&["-D", "depth"]);
+    assert!(!result.status.success());
+    assert!(String::from_utf8_lossy(&result.stderr).contains("NAME=VALUE"));
+}
