@@ -72,6 +72,13 @@ impl Builder {
         Ok(i)
     }
 
+    /// A note for the command line to print (what loads but renders unlike Mitsuba somewhere).
+    pub fn warn(&mut self, message: String) {
+        if !self.warnings.contains(&message) {
+            self.warnings.push(message);
+        }
+    }
+
     /// Adds a texture made by the loader (a checkerboard's).
     pub fn add_texture(&mut self, t: Texture) -> u32 {
         self.textures.push(t);
