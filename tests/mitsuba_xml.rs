@@ -436,6 +436,19 @@ fn a_bad_value_and_a_missing_file_are_errors_at_their_lines() {
         r#"<shape type="sphere"><rgb name="radius" value="1, 2"/></shape>"#,
     );
     assert!(error_of(&path).contains("<rgb>"));
+    let serialized = common::root().join("tests/data/conformance/shapes.serialized");
+    let path = scene_file(
+        dir.path(),
+        &format!(
+            r#"<shape type="serialized"><string name="filename" value="{}"/><integer name="shape_index" value="7"/></shape>"#,
+            serialized.display()
+        ),
+    );
+    let e = error_of(&path);
+    assert!(
+        e.contains("shape_index 7 is out of range: the file has 2 meshes"),
+        "{e}"
+    );
 }
 
 #[test]
