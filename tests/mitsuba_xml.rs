@@ -661,3 +661,49 @@ fn render_takes_the_films_size_and_sample_count_and_defines() {
     assert!(!result.status.success());
     assert!(String::from_utf8_lossy(&result.stderr).contains("NAME=VALUE"));
 }
+
+/// Mitsuba's `focal_length` (default 50mm) as pip Mitsuba 3.9.0 computes its x field of view
+/// (`mi.traverse(sensor)['x_fov']`): 39.5978 degrees on a 48x32 film at 50mm, 34.0221 on a
+/// square one, 37.8493 on 32x48 at 35mm.
+#[test]
+fn focal_length_gives_mitsubas_field_of_view() {
+    use passgraph::scene::camera::{Projection, fov_tangents};
+    let dir = tempfile::tempdir().unwrap();
+    for (focal, [w, h], x_fov) in [
+        (Some("50mm"), [48, 32], 39.59775),
+        (None, [48, 48], 34.02206),
+        (Some("35mm"), [32, 48], 37.84929),
+    ] {
+        let text = format!(
+            r#"<?xml version="1.0"?>
+<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+    <sensor type="perspective">
+        {}
+        <film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="{h}"/></film>
+    </sensor>
+    <shape type="sphere"/>
+</scene>"#,
+            focal.map_or(String::new(), |f| format!(
+                "<string name=\"focal_length\" value=\"{f}\"/>"
+            ))
+        );
+        let path = dir.path().join("focal.xml");
+        std::fs::write(&path, text).unwrap();
+        let s = load(&path, &[]).unwrap().scene;
+        let Projection::Perspective {
+            fov_degrees,
+            fov_axis,
+            ..
+        } = s.camera.projection()
+        else {
+            panic!("not a perspective camera");
+        };
+        let (tx, _) = fov_tangents(fov_degrees, fov_axis, w as f32 / h as f32);
+        let ours = 2.0 * tx.atan().to_degrees();
+        assert!(
+            (ours - x_fov).abs() < 1e-3,
+            "{focal:?} {w}x{h}: {ours} against Mitsuba's {x_fov}"
+        );
+    }
+}
