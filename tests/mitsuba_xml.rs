@@ -707,3 +707,25 @@ fn focal_length_gives_mitsubas_field_of_view() {
         );
     }
 }
+
+/// Mitsuba's `obj` ignores the file's materials: a missing library or an undefined `usemtl`
+/// does not stop it, and the shape's BSDF applies to every face.
+#[test]
+fn an_obj_shape_ignores_the_files_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("m.obj"),
+        "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nowhere\nf 1 2 3\n",
+    )
+    .unwrap();
+    let path = scene_file(
+        dir.path(),
+        r#"<shape type="obj"><string name="filename" value="m.obj"/><bsdf type="diffuse"><rgb name="reflectance" value="0.25"/></bsdf></shape>"#,
+    );
+    let s = load(&path, &[]).unwrap().scene;
+    assert_eq!(s.mesh.triangles.len(), 1);
+    assert_eq!(
+        s.mesh.materials[s.mesh.triangles[0].material as usize].kd,
+        [0.25; 3]
+    );
+}

@@ -14,7 +14,9 @@ use crate::scene::environment::Environment;
 use crate::scene::error::SceneError;
 use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
 use crate::scene::gpu::Material;
-use crate::scene::mesh::{MAX_COORDINATE, Mesh, MeshTriangle, load_obj, load_ply_with_attributes};
+use crate::scene::mesh::{
+    MAX_COORDINATE, Mesh, MeshTriangle, load_obj_geometry, load_ply_with_attributes,
+};
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
 use std::collections::HashMap;
@@ -198,8 +200,9 @@ fn geometry(
             let face_normals = plugin.boolean_or("face_normals", false)?;
             let (g, file_face_normals) = match kind {
                 "obj" => {
+                    // Mitsuba ignores an OBJ's materials (the shape's BSDF is the scene's).
                     let flip_v = plugin.boolean_or("flip_tex_coords", true)?;
-                    (mesh_geometry(&load_obj(&path)?, flip_v), false)
+                    (mesh_geometry(&load_obj_geometry(&path)?, flip_v), false)
                 }
                 "ply" => (
                     mesh_geometry(&load_ply_with_attributes(&path)?, false),
