@@ -619,7 +619,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     let settings = RenderSettings {
         graph: args.graph,
         scene: args.scene,
-        size: size,
+        size,
         seed: args.seed,
         set: args.set,
         adapter: args.adapter.clone(),

@@ -436,6 +436,19 @@ fn a_bad_value_and_a_missing_file_are_errors_at_their_lines() {
         r#"<shape type="sphere"><rgb name="radius" value="1, 2"/></shape>"#,
     );
     assert!(error_of(&path).contains("<rgb>"));
+    let serialized = common::root().join("tests/data/conformance/shapes.serialized");
+    let path = scene_file(
+        dir.path(),
+        &format!(
+            r#"<shape type="serialized"><string name="filename" value="{}"/><integer name="shape_index" value="7"/></shape>"#,
+            serialized.display()
+        ),
+    );
+    let e = error_of(&path);
+    assert!(
+        e.contains("shape_index 7 is out of range: the file has 2 meshes"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -614,4 +627,111 @@ fn texture_lookups_wrap_and_filter_as_mitsubas_bitmap() {
     assert_eq!(t.bilinear(glam::Vec2::new(0.1, 0.1)).x, 3.0);
     t.wrap = Wrap::Clamp;
     assert_eq!(t.bilinear(glam::Vec2::new(5.0, -3.0)).x, 4.0);
+}
+
+/// `render --scene X.xml` takes the film's size and the sampler's sample count unless
+/// `--size` and `--frames` are given, and `-D NAME=VALUE` replaces a `<default>`.
+#[test]
+fn render_takes_the_films_size_and_sample_count_and_defines() {
+    let out = tempfile::tempdir().unwrap();
+    let image = out.path().join("x.exr");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_passgraph"))
+            .current_dir(common::root())
+            .args(["render", "--scene"])
+            .arg(conformance("structure"))
+            .arg("--out")
+            .arg(&image)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let result = run(&["-D", "depth=2", "--frames", "2"]);
+    let printed = String::from_utf8_lossy(&result.stderr).to_string()
+        + &String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{printed}");
+    assert!(printed.contains("scene_max_depth=2"), "{printed}");
+    assert!(printed.contains("2 frames in"), "{printed}");
+    let img = passgraph::render::image::RgbImage::read_exr(&image).unwrap();
+    assert_eq!((img.width, img.height), (48, 48));
+    let result = run(&["--size", "8x4", "--frames", "1", "--define", "radius=0.3"]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let img = passgraph::render::image::RgbImage::read_exr(&image).unwrap();
+    assert_eq!((img.width, img.height), (8, 4));
+    // A define that is not NAME=VALUE is a usage error.
+    let result = run(&["-D", "depth"]);
+    assert!(!result.status.success());
+    assert!(String::from_utf8_lossy(&result.stderr).contains("NAME=VALUE"));
+}
+
+/// Mitsuba's `focal_length` (default 50mm) as pip Mitsuba 3.9.0 computes its x field of view
+/// (`mi.traverse(sensor)['x_fov']`): 39.5978 degrees on a 48x32 film at 50mm, 34.0221 on a
+/// square one, 37.8493 on 32x48 at 35mm.
+#[test]
+fn focal_length_gives_mitsubas_field_of_view() {
+    use passgraph::scene::camera::{Projection, fov_tangents};
+    let dir = tempfile::tempdir().unwrap();
+    for (focal, [w, h], x_fov) in [
+        (Some("50mm"), [48, 32], 39.59775),
+        (None, [48, 48], 34.02206),
+        (Some("35mm"), [32, 48], 37.84929),
+    ] {
+        let text = format!(
+            r#"<?xml version="1.0"?>
+<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+    <sensor type="perspective">
+        {}
+        <film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="{h}"/></film>
+    </sensor>
+    <shape type="sphere"/>
+</scene>"#,
+            focal.map_or(String::new(), |f| format!(
+                "<string name=\"focal_length\" value=\"{f}\"/>"
+            ))
+        );
+        let path = dir.path().join("focal.xml");
+        std::fs::write(&path, text).unwrap();
+        let s = load(&path, &[]).unwrap().scene;
+        let Projection::Perspective {
+            fov_degrees,
+            fov_axis,
+            ..
+        } = s.camera.projection()
+        else {
+            panic!("not a perspective camera");
+        };
+        let (tx, _) = fov_tangents(fov_degrees, fov_axis, w as f32 / h as f32);
+        let ours = 2.0 * tx.atan().to_degrees();
+        assert!(
+            (ours - x_fov).abs() < 1e-3,
+            "{focal:?} {w}x{h}: {ours} against Mitsuba's {x_fov}"
+        );
+    }
+}
+
+/// Mitsuba's `obj` ignores the file's materials: a missing library or an undefined `usemtl`
+/// does not stop it, and the shape's BSDF applies to every face.
+#[test]
+fn an_obj_shape_ignores_the_files_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("m.obj"),
+        "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nowhere\nf 1 2 3\n",
+    )
+    .unwrap();
+    let path = scene_file(
+        dir.path(),
+        r#"<shape type="obj"><string name="filename" value="m.obj"/><bsdf type="diffuse"><rgb name="reflectance" value="0.25"/></bsdf></shape>"#,
+    );
+    let s = load(&path, &[]).unwrap().scene;
+    assert_eq!(s.mesh.triangles.len(), 1);
+    assert_eq!(
+        s.mesh.materials[s.mesh.triangles[0].material as usize].kd,
+        [0.25; 3]
+    );
 }

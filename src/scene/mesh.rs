@@ -5,7 +5,7 @@ use super::gpu::Material;
 use super::texture::Texture;
 use super::{obj, ply};
 use glam::{Vec2, Vec3};
-pub(crate) use obj::load_obj;
+pub(crate) use obj::load_obj_geometry;
 pub(crate) use ply::load_ply_with_attributes;
 use std::path::{Path, PathBuf};
 

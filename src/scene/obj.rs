@@ -25,7 +25,15 @@ use std::path::Path;
 
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
     let text = unix_line_endings(read(path)?);
-    let checked = check_obj(path, &text)?;
+    let checked = check_obj(path, &text, true)?;
+    load_checked(path, checked)
+}
+
+/// [`load_obj`] without materials: `mtllib` and `usemtl` are skipped (every face gets the
+/// default material), as Mitsuba's `obj` shape, whose BSDF comes from the scene, reads them.
+pub fn load_obj_geometry(path: &Path) -> Result<Mesh, SceneError> {
+    let text = unix_line_endings(read(path)?);
+    let checked = check_obj(path, &text, false)?;
     load_checked(path, checked)
 }
 
@@ -132,7 +140,7 @@ fn syntax(path: &Path, line: usize, message: impl Into<String>) -> SceneError {
 }
 
 /// Checks every line tobj would act on and builds the normalised text.
-fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
+fn check_obj(path: &Path, text: &str, materials: bool) -> Result<CheckedObj, SceneError> {
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut normalized = String::with_capacity(text.len());
     let mut libraries = HashMap::new();
@@ -193,6 +201,7 @@ fn check_obj(path: &Path, text: &str) -> Result<CheckedObj, SceneError> {
                 normalized.push(' ');
                 normalized.push_str(rest);
             }
+            "mtllib" | "usemtl" if !materials => {}
             "mtllib" => {
                 if rest.is_empty() {
                     return Err(syntax(path, number, "mtllib needs a file name"));

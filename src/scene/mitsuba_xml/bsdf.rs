@@ -455,6 +455,14 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             return Ok(b);
         }
         "null" => {
+            // Mitsuba's path integrator spends a bounce at each crossing of a null surface
+            // and stops shadow rays there (the light behind comes through BSDF samples);
+            // passgraph's transparent surface costs nothing. Equal in expectation only where
+            // the depth limit is not reached.
+            builder.warn(format!(
+                "{}: bsdf 'null': Mitsuba counts each crossing of a null surface as a bounce, passgraph's fully transparent surface costs none: where max_depth cuts paths that cross it, the images differ",
+                plugin.at.location()
+            ));
             null = true;
             one_sided = false;
             Material {

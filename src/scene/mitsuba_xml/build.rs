@@ -14,7 +14,9 @@ use crate::scene::environment::Environment;
 use crate::scene::error::SceneError;
 use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
 use crate::scene::gpu::Material;
-use crate::scene::mesh::{MAX_COORDINATE, Mesh, MeshTriangle, load_obj, load_ply_with_attributes};
+use crate::scene::mesh::{
+    MAX_COORDINATE, Mesh, MeshTriangle, load_obj_geometry, load_ply_with_attributes,
+};
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
 use std::collections::HashMap;
@@ -75,6 +77,13 @@ impl Builder {
         let i = self.add_texture(t);
         self.texture_index.insert(key, i);
         Ok(i)
+    }
+
+    /// A note for the command line to print (what loads but renders unlike Mitsuba somewhere).
+    pub fn warn(&mut self, message: String) {
+        if !self.warnings.contains(&message) {
+            self.warnings.push(message);
+        }
     }
 
     /// Adds a texture made by the loader (a checkerboard's).
@@ -196,8 +205,9 @@ fn geometry(
             let face_normals = plugin.boolean_or("face_normals", false)?;
             let (g, file_face_normals) = match kind {
                 "obj" => {
+                    // Mitsuba ignores an OBJ's materials (the shape's BSDF is the scene's).
                     let flip_v = plugin.boolean_or("flip_tex_coords", true)?;
-                    (mesh_geometry(&load_obj(&path)?, flip_v), false)
+                    (mesh_geometry(&load_obj_geometry(&path)?, flip_v), false)
                 }
                 "ply" => (
                     mesh_geometry(&load_ply_with_attributes(&path)?, false),
@@ -230,7 +240,7 @@ fn geometry(
         "sphere" => {
             let center = plugin.point("center")?.unwrap_or(DVec3::ZERO);
             let radius = plugin.float_or("radius", 1.0)?;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(plugin.error(format!("radius {radius} must be positive")));
             }
             let m = to_world
@@ -261,7 +271,7 @@ fn geometry(
             let p0 = plugin.point("p0")?.unwrap_or(DVec3::ZERO);
             let p1 = plugin.point("p1")?.unwrap_or(DVec3::Z);
             let radius = plugin.float_or("radius", 1.0)?;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(plugin.error(format!("radius {radius} must be positive")));
             }
             let frame = shapes::cylinder_frame(p0, p1, radius)

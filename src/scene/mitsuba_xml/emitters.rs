@@ -50,7 +50,7 @@ pub fn emitter(builder: &mut Builder, plugin: &Plugin) -> Result<(), SceneError>
             let intensity = colour(plugin, "intensity")?;
             let cutoff = plugin.float_or("cutoff_angle", 20.0)?;
             let beam = plugin.float_or("beam_width", 0.75 * cutoff)?;
-            if !(cutoff > 0.0 && cutoff <= 90.0) || !(beam > 0.0 && beam <= cutoff) {
+            if !(cutoff > 0.0 && cutoff <= 90.0 && beam > 0.0 && beam <= cutoff) {
                 return Err(plugin.error(format!(
                     "cutoff_angle {cutoff} must be in (0, 90] and beam_width {beam} in (0, cutoff_angle]"
                 )));

@@ -33,6 +33,38 @@ const SAMPLERS: &[&str] = &[
     "ldsampler",
 ];
 
+/// `fov` along `fov_axis`, or else Mitsuba's `focal_length` (default "50mm"): a 35 mm film
+/// equivalent, its diagonal (sqrt(36^2 + 24^2) mm) seen at that focal length, which Mitsuba
+/// maps onto the image's own diagonal.
+fn field_of_view(plugin: &Plugin) -> Result<(f64, FovAxis), SceneError> {
+    match (plugin.float("fov")?, plugin.string("focal_length")?) {
+        (Some(_), Some((_, at))) => Err(plugin.error_at(&at, "give fov or focal_length, not both")),
+        (Some(fov), None) => Ok((fov, fov_axis(plugin)?)),
+        (None, focal) => {
+            let (text, at) = focal.unwrap_or(("50mm".to_string(), plugin.at.clone()));
+            let f = text
+                .trim()
+                .strip_suffix("mm")
+                .unwrap_or(text.trim())
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|f| f.is_finite() && *f > 0.0)
+                .ok_or_else(|| {
+                    plugin.error_at(
+                        &at,
+                        format!("focal_length '{text}' is not a positive length in mm (e.g. 50mm)"),
+                    )
+                })?;
+            let diagonal = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
+            Ok((
+                (2.0 * (diagonal / (2.0 * f)).atan()).to_degrees(),
+                FovAxis::Diagonal,
+            ))
+        }
+    }
+}
+
 fn fov_axis(plugin: &Plugin) -> Result<FovAxis, SceneError> {
     Ok(match plugin.string("fov_axis")? {
         None => FovAxis::X,
@@ -101,17 +133,7 @@ pub fn sensor(plugin: &Plugin) -> Result<Sensor, SceneError> {
     match kind {
         "perspective" | "thinlens" => {
             (eye, dir, up, scale) = frame(plugin, &m, &at, true)?;
-            if plugin.has("focal_length") {
-                return Err(
-                    plugin.error("focal_length is not supported: give fov (degrees) and fov_axis")
-                );
-            }
-            let fov = plugin.float("fov")?.ok_or_else(|| {
-                plugin.error(
-                    "give fov (degrees); passgraph does not take Mitsuba's default focal_length",
-                )
-            })?;
-            let axis = fov_axis(plugin)?;
+            let (fov, axis) = field_of_view(plugin)?;
             let lens = if kind == "thinlens" {
                 let r = plugin
                     .float("aperture_radius")?
