@@ -11,7 +11,7 @@ mod pass;
 pub mod provided_data;
 pub mod readback;
 mod resources;
-mod specialise;
+pub mod specialise;
 pub mod texels;
 mod timing;
 

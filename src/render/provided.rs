@@ -55,7 +55,7 @@ const RESOURCES: &[Resource] = &[
     Resource {
         name: "scene.materials",
         kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file (96 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
+        what: "materials from the MTL file (128 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
         bytes: |i| crate::scene::materials_bytes(&i.gpu.materials),
     },
     Resource {

@@ -510,7 +510,9 @@ pub fn chi2_p_value(case: &Case, samples: &[Sample]) -> f64 {
 /// 1 / (w.m), w.m about |wo + eta' wi| / 2, turns m's error into 8 epsilon eta' / |h|^2; a
 /// dielectric's F near the critical angle adds 1e-6 / |cos_t^2| (cos_t^2 = 1 - (1 - (wo.m)^2) /
 /// eta^2, whose rounding F's square root amplifies; bsdf_reciprocity.rs). Cosines and G1 near
-/// the horizon carry the direction's rounding as 4 epsilon / |cos| relative.
+/// the horizon carry the direction's rounding as 4 epsilon / |cos| relative, and a microfacet
+/// seen edge-on m's rounding as 2 / |wo.m| + 1 / |wi.m| (see the code). Beckmann's D changes
+/// faster in its tail than GGX's (below).
 pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
     let b = &case.bsdf;
     let grazing =
@@ -551,5 +553,11 @@ pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
     } else {
         0.0
     };
-    2e-5 + grazing + jacobian + fresnel + d_log_d * (4.0 * f32::EPSILON * eta / h.length())
+    // The microfacet seen nearly edge-on from wo or wi: eval and pdf carry |wo.m| and |wi.m|
+    // (the visible-normal density, the Jacobian) and 1 - F(wo.m), which near grazing is
+    // linear in wo.m, so m's rounding is 2 / |wo.m| + 1 / |wi.m| of it, relative.
+    let m = h / h.length();
+    let facing = 2.0 / case.wo.dot(m).abs() + 1.0 / wi.dot(m).abs();
+    let m_rounding = 4.0 * f32::EPSILON * eta / h.length();
+    2e-5 + grazing + jacobian + fresnel + (d_log_d + facing) * m_rounding
 }
