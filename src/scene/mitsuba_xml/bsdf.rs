@@ -206,6 +206,15 @@ fn alpha(plugin: &Plugin) -> Result<f32, SceneError> {
     Ok(a as f32)
 }
 
+/// A rough model's alpha and distribution; a smooth one's (0, unused).
+fn roughness(plugin: &Plugin, rough: bool) -> Result<(f32, Distribution), SceneError> {
+    if rough {
+        Ok((alpha(plugin)?, distribution(plugin)?))
+    } else {
+        Ok((0.0, Distribution::Ggx))
+    }
+}
+
 /// The material of a `<bsdf>` plugin.
 pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneError> {
     let mut to_uv = None;
@@ -262,11 +271,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 [1.0; 3],
                 &mut to_uv,
             )?;
-            let (alpha, dist) = if rough {
-                (alpha(plugin)?, distribution(plugin)?)
-            } else {
-                (0.0, Distribution::Ggx)
-            };
+            let (alpha, dist) = roughness(plugin, rough)?;
             Material {
                 map_kd,
                 ..Material::conductor(kd, alpha, dist, ior)
@@ -292,11 +297,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 [1.0; 3],
                 &mut to_uv,
             )?;
-            let (alpha, dist) = if rough {
-                (alpha(plugin)?, distribution(plugin)?)
-            } else {
-                (0.0, Distribution::Ggx)
-            };
+            let (alpha, dist) = roughness(plugin, rough)?;
             Material {
                 kind: MATERIAL_PLASTIC,
                 distribution: dist as u32,
@@ -318,11 +319,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 ));
             }
             let tf = plugin.constant_color("specular_transmittance", [1.0; 3])?;
-            let (alpha, dist) = if rough {
-                (alpha(plugin)?, distribution(plugin)?)
-            } else {
-                (0.0, Distribution::Ggx)
-            };
+            let (alpha, dist) = roughness(plugin, rough)?;
             one_sided = false;
             Material {
                 kind: MATERIAL_DIELECTRIC,
