@@ -21,7 +21,7 @@ const GRAPH: &str = "graphs/pathtracer-fused.ron";
 /// Samples per frame: the largest of 8, 4, 2 and 1 that divides the budget, so that the
 /// frames add up to exactly the scene's spp (fewer frames: less per-frame overhead).
 fn samples_per_frame(spp: u32) -> u32 {
-    [8, 4, 2, 1].into_iter().find(|k| spp % k == 0).unwrap()
+    [8, 4, 2, 1].into_iter().find(|k| spp.is_multiple_of(*k)).unwrap()
 }
 
 /// The scene rendered at its budget, and Mitsuba's z-test of it.
