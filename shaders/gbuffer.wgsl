@@ -34,7 +34,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
         n = s.n;
         p = s.p;
-        kd = scene_material(materials, s.material).kd;
+        kd = scene_face_material(materials, s.material, s.front).kd;
     }
     // Running mean over the accumulation; a restart (accumulated == 0) forgets the history.
     let count = f32(frame.accumulated);

@@ -21,7 +21,10 @@ const GRAPH: &str = "graphs/pathtracer-fused.ron";
 /// Samples per frame: the largest of 8, 4, 2 and 1 that divides the budget, so that the
 /// frames add up to exactly the scene's spp (fewer frames: less per-frame overhead).
 fn samples_per_frame(spp: u32) -> u32 {
-    [8, 4, 2, 1].into_iter().find(|k| spp.is_multiple_of(*k)).unwrap()
+    [8, 4, 2, 1]
+        .into_iter()
+        .find(|k| spp.is_multiple_of(*k))
+        .unwrap()
 }
 
 /// The scene rendered at its budget, and Mitsuba's z-test of it.
@@ -65,11 +68,6 @@ const KNOWN_DIFFERENCES: &[(&str, bool, &str)] = &[
         "Mitsuba's mask is a null interaction that counts as a path segment and blocks shadow rays; passgraph's cut-outs are free",
     ),
     (
-        "normals",
-        true,
-        "a one-sided BSDF seen from behind is black in Mitsuba; passgraph shades both sides",
-    ),
-    (
         "roughconductor_beckmann",
         true,
         "32 of 6912 values fail (17 allowed), on the spheres' lower edges: not found yet",
@@ -83,21 +81,6 @@ const KNOWN_DIFFERENCES: &[(&str, bool, &str)] = &[
         "null",
         false,
         "an area emitter on a null BSDF: passgraph's fully transparent surfaces do not emit",
-    ),
-    (
-        "plastic",
-        false,
-        "nonlinear plastic: passgraph's plastic is Mitsuba's linear one",
-    ),
-    (
-        "roughplastic",
-        false,
-        "nonlinear plastic: passgraph's plastic is Mitsuba's linear one",
-    ),
-    (
-        "twosided",
-        false,
-        "twosided with two BSDFs: a passgraph material has one model for both faces",
     ),
 ];
 
@@ -159,14 +142,18 @@ conformance_scenes!(
     instances,
     meshes,
     normalmap,
+    normals,
     orthographic,
     path_depth8,
+    plastic,
     point_spot,
     rfilter_gaussian,
     rfilter_tent,
     roughconductor_ggx,
     roughdielectric,
+    roughplastic,
     shapes,
     structure,
     thinlens,
+    twosided,
 );

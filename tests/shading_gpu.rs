@@ -114,6 +114,7 @@ fn scene(rng: &mut Rng) -> SceneGpu {
             random_texture(rng, 1, 1),
             random_texture(rng, 8, 16),
         ],
+        back_materials: Default::default(),
         warnings: Vec::new(),
     };
     SceneGpu::build(&mesh)

@@ -122,6 +122,7 @@ fn scene(rng: &mut Rng) -> SceneGpu {
             .map(String::from)
             .to_vec(),
         textures: vec![normal_texture(rng, 5, 7), height_texture(rng, 9, 4)],
+        back_materials: Default::default(),
         warnings: Vec::new(),
     };
     SceneGpu::build(&mesh)

@@ -44,6 +44,9 @@ override scene_has_surface_maps: bool = true;
 // them a material's last two texels are not read and their code is specialised away.
 override scene_has_beckmann: bool = true;
 override scene_has_conductor_fresnel: bool = true;
+// Whether a used material shades its back face as another material (Mitsuba's one-sided
+// models: a black one; twosided with two BSDFs): scene_face_material.
+override scene_has_back_materials: bool = true;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;
@@ -102,7 +105,12 @@ struct Material {
     distribution: u32,
     k: vec3<f32>,
     fresnel: u32,
+    // The back face's material + 1, or 0: both faces shade alike (packed above the model's
+    // MATERIAL_KIND_BITS in the record's kind word: src/scene/material_tables.rs).
+    back: u32,
 }
+
+const MATERIAL_KIND_BITS: u32 = 4u;
 
 const FRESNEL_NONE: u32 = 0u;
 const FRESNEL_CONDUCTOR: u32 = 1u;
@@ -278,11 +286,21 @@ fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Materia
     if scene_has_conductor_fresnel {
         h = scene_texel(view, 8u * i + 7u);
     }
-    return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), b.w,
+    let kind = b.w & ((1u << MATERIAL_KIND_BITS) - 1u);
+    return Material(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), kind,
                     bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
                     bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y, f.z,
                     bitcast<f32>(f.w), bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz),
-                    h.w);
+                    h.w, b.w >> MATERIAL_KIND_BITS);
+}
+
+// The material that shades material i's face hit from the front (true) or from behind.
+fn scene_face_material(view: texture_storage_2d<rgba32uint, read>, i: u32, front: bool) -> Material {
+    let m = scene_material(view, i);
+    if scene_has_back_materials && !front && m.back != 0u {
+        return scene_material(view, m.back - 1u);
+    }
+    return m;
 }
 
 // Only the emitted radiance of material i (what light sampling needs).

@@ -14,5 +14,5 @@ fn shade_ambient(ray: Primary, source: SampleSource, color: vec3<f32>, radius: f
     if any_hit(offset_ray(s.p, s.n), d, 0.0, radius) {
         return vec3<f32>(0.0);
     }
-    return scene_material(materials, s.material).kd * color;
+    return scene_face_material(materials, s.material, s.front).kd * color;
 }

@@ -26,7 +26,7 @@ fn shading_point(triangle: u32, u: f32, v: f32, dir: vec3<f32>) -> ShadingPoint 
     let t = scene_triangle(triangles, triangle);
     let s = surface_at(t, u, v, dir);
     let n_smooth = shading_normal(shading, triangle, u, v, s.n);
-    var m = scene_material(materials, s.material);
+    var m = scene_face_material(materials, s.material, s.front);
     var ns = n_smooth;
     if scene_has_textures || scene_has_surface_maps {
         let uv = shading_uv(shading, triangle, u, v);

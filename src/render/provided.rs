@@ -56,7 +56,9 @@ const RESOURCES: &[Resource] = &[
         name: "scene.materials",
         kind: ProvidedKind::StorageBuffer,
         what: "materials from the MTL file (128 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
-        bytes: |i| crate::scene::materials_bytes(&i.gpu.materials),
+        bytes: |i| {
+            crate::scene::materials_bytes_with_backs(&i.gpu.materials, &i.gpu.back_materials)
+        },
     },
     Resource {
         name: "scene.lights",
@@ -224,6 +226,12 @@ const OVERRIDES: &[Override] = &[
         ty: ParamType::Bool,
         what: "whether a used material's rough lobe has Beckmann microfacets (MTL distribution beckmann)",
         value: |gpu| if gpu.has_beckmann { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_back_materials",
+        ty: ParamType::Bool,
+        what: "whether a used material shades its back face as another (Mitsuba's one-sided models; twosided with two BSDFs)",
+        value: |gpu| if gpu.has_back_materials { 1.0 } else { 0.0 },
     },
     Override {
         name: "scene_has_conductor_fresnel",

@@ -14,6 +14,7 @@ use super::mesh::Mesh;
 use super::texture::{Texture, textures_bytes};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
+use std::collections::BTreeMap;
 use std::mem::size_of;
 
 /// One triangle, in BVH order; `material` indexes the materials buffer, `light` the lights
@@ -400,10 +401,19 @@ impl Default for Material {
 }
 
 /// The materials some triangle uses (each once).
-fn used_materials(triangles: &[Triangle], materials: &[Material]) -> Vec<Material> {
+fn used_materials(
+    triangles: &[Triangle],
+    materials: &[Material],
+    back_materials: &BTreeMap<u32, u32>,
+) -> Vec<Material> {
     let mut used = vec![false; materials.len()];
     for t in triangles {
         if let Some(u) = used.get_mut(t.material as usize) {
+            *u = true;
+        }
+    }
+    for &back in back_materials.values() {
+        if let Some(u) = used.get_mut(back as usize) {
             *u = true;
         }
     }
@@ -459,6 +469,9 @@ pub struct SceneGpu {
     /// last and no leaf references them.
     pub triangles: Vec<Triangle>,
     pub materials: Vec<Material>,
+    /// Material `front` seen from behind is material `back` (`Mesh::back_materials`, for the
+    /// used materials only).
+    pub back_materials: BTreeMap<u32, u32>,
     /// The lights: emissive triangles with nonzero area, pairs of them forming a
     /// parallelogram joined into one (see `lights.rs`), ordered by first triangle. Empty when
     /// the scene has no emitters.
@@ -522,6 +535,8 @@ pub struct SceneGpu {
     pub has_beckmann: bool,
     /// Whether a used conductor has a complex-index Fresnel term: `scene_has_conductor_fresnel`.
     pub has_conductor_fresnel: bool,
+    /// Whether a used material has a back-face material: `scene_has_back_materials`.
+    pub has_back_materials: bool,
     pub bvh: BvhStats,
 }
 
@@ -568,11 +583,15 @@ impl SceneGpu {
                 .get(t.material as usize)
                 .is_some_and(Material::is_specular)
         });
-        let material_kinds = triangles
+        // The back-face materials of the used ones are used too.
+        let back_materials: BTreeMap<u32, u32> = mesh
+            .back_materials
             .iter()
-            .filter_map(|t| materials.get(t.material as usize))
-            .fold(0, |kinds, m| kinds | 1 << m.kind);
-        let used = used_materials(&triangles, &materials);
+            .filter(|(front, _)| triangles.iter().any(|t| t.material == **front))
+            .map(|(&f, &b)| (f, b))
+            .collect();
+        let used = used_materials(&triangles, &materials, &back_materials);
+        let material_kinds = used.iter().fold(0, |kinds, m| kinds | 1 << m.kind);
         let has_textures = used.iter().any(|m| {
             [m.map_kd, m.map_ks, m.map_pr, m.map_d]
                 .iter()
@@ -618,8 +637,10 @@ impl SceneGpu {
             has_surface_maps,
             has_beckmann,
             has_conductor_fresnel,
+            has_back_materials: !back_materials.is_empty(),
             triangles,
             materials,
+            back_materials,
             lights,
             light_power,
             octant_nodes: octant_copies(&bvh.nodes, keep_root),

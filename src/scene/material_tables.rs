@@ -6,10 +6,16 @@
 
 use super::gpu::{Distribution, MATERIAL_PLASTIC, Material};
 use crate::bsdf::plastic_tables::PlasticTable;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// A material's `table` when its model needs none.
 pub const NO_TABLE: u32 = u32::MAX;
+
+/// The low bits of a record's `kind` word that hold the model (a `MATERIAL_*`); the bits above
+/// hold the back-face material's index + 1, 0 when both faces shade alike (lib/scene.wgsl
+/// decodes it). So the 128-byte record keeps its size; 2^28 - 1 materials at most, far more
+/// than a device holds (each record is 128 bytes).
+pub const MATERIAL_KIND_BITS: u32 = 4;
 
 /// Texels (16 bytes) a material record takes.
 const MATERIAL_TEXELS: usize = size_of::<Material>() / 16;
@@ -21,6 +27,15 @@ pub fn needs_table(m: &Material) -> bool {
 
 /// The materials with `table` set, and the view's texels: the records' then the tables'.
 pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>) {
+    materials_texels_with_backs(materials, &BTreeMap::new())
+}
+
+/// As [`materials_texels`], with each material's back-face material (`Mesh::back_materials`)
+/// packed into its record's `kind` word ([`MATERIAL_KIND_BITS`]).
+pub fn materials_texels_with_backs(
+    materials: &[Material],
+    backs: &BTreeMap<u32, u32>,
+) -> (Vec<Material>, Vec<[f32; 4]>) {
     let mut out = materials.to_vec();
     let mut texels: Vec<[f32; 4]> = Vec::new();
     let mut tables: Vec<[f32; 4]> = Vec::new();
@@ -40,9 +55,21 @@ pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>
                 index
             });
     }
-    for m in &out {
+    for (i, m) in out.iter().enumerate() {
+        let mut record = *m;
+        assert!(
+            record.kind < 1 << MATERIAL_KIND_BITS,
+            "a MATERIAL_* fits its bits"
+        );
+        if let Some(&back) = backs.get(&(i as u32)) {
+            assert!(
+                back < (u32::MAX >> MATERIAL_KIND_BITS),
+                "back-face material index fits"
+            );
+            record.kind |= (back + 1) << MATERIAL_KIND_BITS;
+        }
         texels.extend(bytemuck::cast_slice::<Material, [f32; 4]>(
-            std::slice::from_ref(m),
+            std::slice::from_ref(&record),
         ));
     }
     texels.extend(tables);
@@ -51,7 +78,12 @@ pub fn materials_texels(materials: &[Material]) -> (Vec<Material>, Vec<[f32; 4]>
 
 /// The `scene.materials` bytes.
 pub fn materials_bytes(materials: &[Material]) -> Vec<u8> {
-    bytemuck::cast_slice(&materials_texels(materials).1).to_vec()
+    materials_bytes_with_backs(materials, &BTreeMap::new())
+}
+
+/// The `scene.materials` bytes of materials with back-face materials.
+pub fn materials_bytes_with_backs(materials: &[Material], backs: &BTreeMap<u32, u32>) -> Vec<u8> {
+    bytemuck::cast_slice(&materials_texels_with_backs(materials, backs).1).to_vec()
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use super::{obj, ply};
 use glam::{Vec2, Vec3};
 pub(crate) use obj::load_obj_geometry;
 pub(crate) use ply::load_ply_with_attributes;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// One triangle in file order; `material` indexes [`Mesh::materials`].
@@ -43,6 +44,10 @@ pub struct Mesh {
     pub material_names: Vec<String>,
     /// The images the materials' `map_*` indices refer to.
     pub textures: Vec<Texture>,
+    /// Material `front` seen from behind (the side its triangles' winding faces away from) is
+    /// material `back`: Mitsuba's one-sided models (black from behind) and `twosided` with two
+    /// BSDFs. Every material not in the map shades both sides alike (passgraph's default).
+    pub back_materials: BTreeMap<u32, u32>,
     /// What loaded but will not render as written, each naming the file (and line): for the
     /// command line to print.
     pub warnings: Vec<String>,
@@ -69,6 +74,7 @@ impl Mesh {
             materials: vec![Material::DEFAULT],
             material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
             textures: Vec::new(),
+            back_materials: BTreeMap::new(),
             warnings: Vec::new(),
         }
     }

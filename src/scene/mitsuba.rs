@@ -426,6 +426,11 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
             bitmap(param, &textures[map as usize], false, name)
         }
     };
+    if scene.mesh.back_materials.contains_key(&index) {
+        return Err(format!(
+            "material '{name}' shades its back face as another material (a Mitsuba scene's one-sided BSDF or twosided of two): render that Mitsuba file itself"
+        ));
+    }
     if m.map_pr != NO_TEXTURE {
         return Err(format!(
             "material '{name}' has a roughness map (map_Pr), which Mitsuba 3 cannot square into its GGX alpha"
@@ -605,6 +610,7 @@ mod tests {
                 materials,
                 material_names: names,
                 textures: vec![texture],
+                back_materials: Default::default(),
                 warnings: Vec::new(),
             },
             camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),

@@ -43,5 +43,5 @@ pub use gpu::{
     SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle, TriangleShading,
 };
 pub use intersect::{Hit, Ray};
-pub use material_tables::{NO_TABLE, materials_bytes};
+pub use material_tables::{NO_TABLE, materials_bytes, materials_bytes_with_backs};
 pub use mesh::{Mesh, MeshTriangle, load_mesh};

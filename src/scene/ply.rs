@@ -148,6 +148,7 @@ fn load(path: &Path, attributes: bool) -> Result<Mesh, SceneError> {
         materials: vec![Material::DEFAULT],
         material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
         textures: Vec::new(),
+        back_materials: Default::default(),
     })
 }
 

@@ -4,17 +4,19 @@
 //! | --- | --- |
 //! | `diffuse` | Lambert |
 //! | `conductor`, `roughconductor` (ggx) with `material none` (the default) | conductor: Fresnel 1 times `specular_reflectance` |
-//! | `plastic`, `roughplastic` (ggx), `nonlinear` false (the default) | plastic, `ior` = int_ior / ext_ior |
+//! | `plastic`, `roughplastic`, `nonlinear` false (the default) or true (constant reflectance) | plastic, `ior` = int_ior / ext_ior; nonlinear folded into kd |
 //! | `dielectric`, `roughdielectric` (ggx) | dielectric, `ior` = int_ior / ext_ior, `tf` = `specular_transmittance` |
-//! | `twosided` of one BSDF | the BSDF (passgraph's reflecting models are two-sided) |
+//! | `diffuse`, `conductor`, `plastic` and their rough forms, bare | the model, black from behind (a back-face material of reflectance 0) |
+//! | `twosided` of one BSDF | the BSDF, both faces alike (passgraph's reflecting models shade both) |
+//! | `twosided` of two BSDFs | the first in front, the second behind (a back-face material) |
 //! | `mask` | the BSDF with `opacity` (a number or a texture) |
 //! | `normalmap`, `bumpmap` | the BSDF with its surface map |
 //! | `null` | a fully transparent material (opacity 0) |
 //!
 //! passgraph's reflecting models shade both faces, as Mitsuba's `twosided`; Mitsuba's bare
-//! `diffuse`, `conductor` and `plastic` are black from behind. The two agree wherever the back of
-//! such a surface is not seen (closed shapes, walls seen from the front); the loader warns once
-//! per scene that has a bare one (see [`Bsdf::one_sided`]).
+//! `diffuse`, `conductor` and `plastic` are black from behind, which passgraph renders with a
+//! back-face material ([`Back`], `Mesh::back_materials`): the back of the triangle (its
+//! winding's, which is Mitsuba's normal) shades as the other material.
 //!
 //! The rough models' `distribution` is Beckmann unless the file says ggx (Mitsuba's default);
 //! conductors take `eta`/`k` or a named `material` preset (Mitsuba's RGB values,
@@ -25,6 +27,8 @@ use super::params::ColorParam;
 use super::parse::{At, Plugin, Value};
 use super::textures::{TextureUse, texture};
 use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
+use crate::bsdf::fresnel::fresnel_diffuse_reflectance;
+use crate::bsdf::plastic_tables::PlasticTable;
 use crate::scene::error::SceneError;
 use crate::scene::gpu::{
     Distribution, MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
@@ -38,10 +42,21 @@ pub struct Bsdf {
     pub material: Material,
     /// The `to_uv` of the material's textures (all the same), Mitsuba's uv convention.
     pub to_uv: Option<DMat3>,
-    /// A Mitsuba model that is black from behind, rendered two-sided.
-    pub one_sided: bool,
+    /// How the back face shades.
+    pub back: Back,
     /// `null`: nothing but (on an emitter) emission.
     pub null: bool,
+}
+
+/// What shades a BSDF's back face (the side its shape's normal points away from).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Back {
+    /// The same model (Mitsuba's `twosided` of one BSDF, the dielectrics, null).
+    Same,
+    /// Nothing: black (Mitsuba's bare reflecting models).
+    Black,
+    /// Another material (`twosided` of two BSDFs).
+    Other(Material),
 }
 
 /// Mitsuba's named indices of refraction (`src/render/ior.h`).
@@ -218,7 +233,7 @@ fn roughness(plugin: &Plugin, rough: bool) -> Result<(f32, Distribution), SceneE
 /// The material of a `<bsdf>` plugin.
 pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneError> {
     let mut to_uv = None;
-    let mut one_sided = true;
+    let mut back = Back::Black;
     let mut null = false;
     let material = match plugin.kind.as_str() {
         "diffuse" => {
@@ -280,16 +295,20 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
         "plastic" | "roughplastic" => {
             let rough = plugin.kind == "roughplastic";
             let eta = ior(plugin, "int_ior", "polypropylene")? / ior(plugin, "ext_ior", "air")?;
-            if let Some(p) = plugin.property("nonlinear") {
-                if plugin.boolean("nonlinear")? == Some(true) {
+            let nonlinear = plugin.boolean("nonlinear")?.unwrap_or(false);
+            let (mut kd, map_kd) =
+                color_or_texture(builder, plugin, "diffuse_reflectance", [0.5; 3], &mut to_uv)?;
+            let (alpha, dist) = roughness(plugin, rough)?;
+            if nonlinear {
+                if map_kd != NO_TEXTURE {
+                    let at = plugin.property("nonlinear").map(|p| p.at.clone());
                     return Err(plugin.error_at(
-                        &p.at,
-                        "nonlinear true is not supported (passgraph's plastic is Mitsuba's linear one, nonlinear false)",
+                        at.as_ref().unwrap_or(&plugin.at),
+                        "nonlinear true with a textured diffuse_reflectance is not supported (passgraph folds nonlinear into a constant reflectance)",
                     ));
                 }
+                kd = nonlinear_as_linear(kd, internal_reflectance(alpha, dist, eta as f32));
             }
-            let (kd, map_kd) =
-                color_or_texture(builder, plugin, "diffuse_reflectance", [0.5; 3], &mut to_uv)?;
             let (ks, map_ks) = color_or_texture(
                 builder,
                 plugin,
@@ -297,7 +316,6 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 [1.0; 3],
                 &mut to_uv,
             )?;
-            let (alpha, dist) = roughness(plugin, rough)?;
             Material {
                 kind: MATERIAL_PLASTIC,
                 distribution: dist as u32,
@@ -320,7 +338,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             }
             let tf = plugin.constant_color("specular_transmittance", [1.0; 3])?;
             let (alpha, dist) = roughness(plugin, rough)?;
-            one_sided = false;
+            back = Back::Same;
             Material {
                 kind: MATERIAL_DIELECTRIC,
                 distribution: dist as u32,
@@ -340,33 +358,49 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             }
             let tf = plugin.constant_color("specular_transmittance", [1.0; 3])?;
             // Both faces alike, as Mitsuba's.
-            one_sided = false;
+            back = Back::Same;
             Material::thin_dielectric(eta as f32, f32s(tf))
         }
         "twosided" => {
             let inner = plugin.children_of("bsdf");
-            let inner = match inner[..] {
-                [one] => one,
-                [_, back] => {
+            if !matches!(inner.len(), 1 | 2) {
+                return Err(plugin.error("twosided needs one or two nested <bsdf>s"));
+            }
+            let mut sides = Vec::new();
+            for side in &inner {
+                let b = bsdf(builder, &side.plugin)?;
+                if b.material.kind == MATERIAL_DIELECTRIC || b.null {
                     return Err(plugin.error_at(
-                        &back.at,
-                        "twosided with two BSDFs (front and back) is not supported: a passgraph material has one model for both faces",
+                        &side.at,
+                        format!("twosided around a {} is not supported (supported: diffuse, conductor, plastic and their rough and adapted forms)", side.plugin.kind),
                     ));
                 }
-                _ => return Err(plugin.error("twosided needs one nested <bsdf>")),
-            };
-            let b = bsdf(builder, &inner.plugin)?;
-            if b.material.kind == MATERIAL_DIELECTRIC || b.null {
-                return Err(plugin.error_at(
-                    &inner.at,
-                    format!("twosided around a {} is not supported (supported: diffuse, conductor, plastic and their rough and adapted forms)", inner.plugin.kind),
-                ));
+                sides.push((b, &side.at));
             }
             plugin.finish()?;
-            return Ok(Bsdf {
-                one_sided: false,
-                ..b
-            });
+            let mut front = sides.remove(0).0;
+            front.back = match sides.pop() {
+                None => Back::Same,
+                Some((b, at)) => {
+                    // Mitsuba's twosided shows the second BSDF from behind as if from its front.
+                    // The triangles carry one set of uvs, so both sides must map them alike.
+                    if b.to_uv.is_some() && front.to_uv.is_some() && b.to_uv != front.to_uv {
+                        return Err(plugin.error_at(
+                            at,
+                            "the two sides' textures have different to_uv (passgraph's triangles have one set of uvs)",
+                        ));
+                    }
+                    if b.material.opacity < 1.0 || b.material.map_d != NO_TEXTURE {
+                        return Err(plugin.error_at(
+                            at,
+                            "a mask on the back BSDF of a twosided is not supported (put the mask around the twosided)",
+                        ));
+                    }
+                    front.to_uv = front.to_uv.or(b.to_uv);
+                    Back::Other(b.material)
+                }
+            };
+            return Ok(front);
         }
         "mask" => {
             let inner = single_inner(plugin)?;
@@ -461,7 +495,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                 plugin.at.location()
             ));
             null = true;
-            one_sided = false;
+            back = Back::Same;
             Material {
                 opacity: 0.0,
                 ..Material::diffuse([0.0; 3])
@@ -477,9 +511,26 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
     Ok(Bsdf {
         material,
         to_uv,
-        one_sided,
+        back,
         null,
     })
+}
+
+/// The fraction of the base's light the coat reflects back inside (Mitsuba's `m_fdr_int` of
+/// the smooth plastic, `m_internal_reflectance` of the rough one, which passgraph's tables hold).
+fn internal_reflectance(alpha: f32, distribution: Distribution, eta: f32) -> f32 {
+    if alpha > 0.0 {
+        PlasticTable::compute(distribution, alpha, eta).internal_reflectance
+    } else {
+        fresnel_diffuse_reflectance(1.0 / eta)
+    }
+}
+
+/// The linear model's reflectance that equals Mitsuba's `nonlinear` one: its diffuse term is
+/// kd / (1 - kd R) where the linear one's is kd / (1 - R), per channel, so
+/// kd' = kd (1 - R) / (1 - kd R).
+fn nonlinear_as_linear(kd: [f32; 3], r: f32) -> [f32; 3] {
+    kd.map(|d| d * (1.0 - r) / (1.0 - d * r))
 }
 
 fn single_inner(plugin: &Plugin) -> Result<&super::parse::Child, SceneError> {

@@ -2,7 +2,7 @@
 //! material per distinct BSDF and emission, the lights and environment, the camera and film,
 //! and the integrator's depth.
 
-use super::bsdf::{Bsdf, bsdf};
+use super::bsdf::{Back, Bsdf, bsdf};
 use super::emitters::emitter;
 use super::parse::{At, ParsedScene, Plugin, resolve_file};
 use super::sensor::{Sensor, sensor};
@@ -19,7 +19,7 @@ use crate::scene::mesh::{
 };
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -34,8 +34,8 @@ pub struct Builder {
     pub lights: Vec<AnalyticLight>,
     pub environment: Option<Environment>,
     warnings: Vec<String>,
-    /// A one-sided BSDF was rendered two-sided (warned once).
-    one_sided: Option<String>,
+    /// Material `front` seen from behind is material `back` (`Mesh::back_materials`).
+    back_materials: BTreeMap<u32, u32>,
     /// Shape groups by plugin (their shapes in group space, with their BSDFs).
     groups: HashMap<*const Plugin, Vec<(Geometry, Bsdf, String)>>,
 }
@@ -92,15 +92,43 @@ impl Builder {
         (self.textures.len() - 1) as u32
     }
 
-    /// The index of a material, shared with an identical one.
-    fn material(&mut self, m: Material, name: String) -> u32 {
-        if let Some(i) = self
-            .materials
-            .iter()
-            .position(|x| bytemuck::bytes_of(x) == bytemuck::bytes_of(&m))
-        {
-            return i as u32;
+    /// The index of a material with its back face, shared with an identical one; a new front
+    /// comes before its new back.
+    fn material(&mut self, m: Material, back: &Back, name: String) -> u32 {
+        let back = match back {
+            Back::Same => None,
+            Back::Black => Some((
+                Material::diffuse([0.0; 3]),
+                "black (the back of one-sided BSDFs)".to_string(),
+            )),
+            Back::Other(b) => Some((*b, format!("{name}, back face"))),
+        };
+        let back_index = back.as_ref().map(|(b, _)| self.find_material(b, None));
+        if let Some(i) = match back_index {
+            None => self.find_material(&m, None),
+            Some(Some(b)) => self.find_material(&m, Some(b)),
+            Some(None) => None,
+        } {
+            return i;
         }
+        let index = self.push_material(m, name);
+        if let Some((b, back_name)) = back {
+            let b = back_index
+                .flatten()
+                .unwrap_or_else(|| self.push_material(b, back_name));
+            self.back_materials.insert(index, b);
+        }
+        index
+    }
+
+    fn find_material(&self, m: &Material, back: Option<u32>) -> Option<u32> {
+        (0..self.materials.len() as u32).find(|&i| {
+            bytemuck::bytes_of(&self.materials[i as usize]) == bytemuck::bytes_of(m)
+                && self.back_materials.get(&i).copied() == back
+        })
+    }
+
+    fn push_material(&mut self, m: Material, name: String) -> u32 {
         self.materials.push(m);
         self.material_names.push(name);
         (self.materials.len() - 1) as u32
@@ -299,21 +327,11 @@ impl Builder {
             None => Bsdf {
                 material: Material::diffuse([if emits { 0.0 } else { 0.5 }; 3]),
                 to_uv: None,
-                one_sided: !emits,
+                back: if emits { Back::Same } else { Back::Black },
                 null: false,
             },
             Some(c) => bsdf(self, &c.plugin)?,
         })
-    }
-
-    fn note_one_sided(&mut self, b: &Bsdf, plugin: &Plugin) {
-        if b.one_sided && self.one_sided.is_none() {
-            self.one_sided = Some(format!(
-                "{}: {} has a one-sided BSDF (Mitsuba's bare diffuse, conductor and plastic are black from behind); passgraph's materials are two-sided, so where the back of such a surface is seen or lit the images differ (wrap it in twosided to say so)",
-                plugin.at.location(),
-                plugin.what()
-            ));
-        }
     }
 
     fn shape(&mut self, plugin: &Plugin, number: usize) -> Result<(), SceneError> {
@@ -345,9 +363,8 @@ impl Builder {
             material.ke = radiance.map(|v| v as f32);
         }
         plugin.finish()?;
-        self.note_one_sided(&b, plugin);
         let name = format!("shape {number} ({}, {})", plugin.kind, plugin.at.location());
-        let index = self.material(material, name);
+        let index = self.material(material, &b.back, name);
         self.add(plugin, &geometry, index, b.to_uv)
     }
 
@@ -366,7 +383,6 @@ impl Builder {
             self.warnings.extend(warnings);
             let b = self.shape_bsdf(s)?;
             s.finish()?;
-            self.note_one_sided(&b, s);
             shapes.push((
                 g,
                 b,
@@ -393,7 +409,7 @@ impl Builder {
                 plugin.error("the shapegroup must be declared before its instances")
             })?;
         for (g, b, name) in shapes {
-            let index = self.material(b.material, name);
+            let index = self.material(b.material, &b.back, name);
             // Mitsuba's instance moves the group's shapes as they are (meshes and analytic
             // ones alike: it does not re-derive an analytic shape's normal).
             self.add(plugin, &g.transformed(&to_world, false), index, b.to_uv)?;
@@ -495,7 +511,7 @@ pub fn build(
         lights: Vec::new(),
         environment: None,
         warnings: Vec::new(),
-        one_sided: None,
+        back_materials: BTreeMap::new(),
         groups: HashMap::new(),
     };
     // Without an integrator, Mitsuba's default: path, unbounded, Russian roulette from 5.
@@ -564,7 +580,6 @@ pub fn build(
             });
         }
     }
-    b.warnings.extend(b.one_sided.take());
     b.warnings.extend(sensor.border_note.clone());
     let mesh = Mesh {
         path: path.to_path_buf(),
@@ -572,6 +587,7 @@ pub fn build(
         materials: b.materials,
         material_names: b.material_names,
         textures: b.textures,
+        back_materials: b.back_materials,
         warnings: b.warnings,
     };
     Ok(Built {
