@@ -77,11 +77,6 @@ const KNOWN_DIFFERENCES: &[(&str, bool, &str)] = &[
         true,
         "24 of 6912 values fail (17 allowed), on the wall's top edge seen through the panes: not found yet",
     ),
-    (
-        "null",
-        false,
-        "an area emitter on a null BSDF: passgraph's fully transparent surfaces do not emit",
-    ),
 ];
 
 #[test]
@@ -143,6 +138,7 @@ conformance_scenes!(
     meshes,
     normalmap,
     normals,
+    null,
     orthographic,
     path_depth8,
     plastic,

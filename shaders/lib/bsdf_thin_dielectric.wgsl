@@ -9,14 +9,14 @@ fn thin_dielectric_reflectance(b: Bsdf, cos: f32) -> f32 {
     return r * 2.0 / (1.0 + r);
 }
 
-// u_lobe <= R' reflects (weight 1), else passes through (weight tf); pdf is the lobe's
+// u_lobe < R' reflects (weight 1), else passes through (weight tf); pdf is the lobe's
 // probability.
 fn thin_dielectric_sample(b: Bsdf, wo: vec3<f32>, u_lobe: f32) -> BsdfSample {
     if wo.z <= 0.0 {
         return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
     }
     let r = thin_dielectric_reflectance(b, wo.z);
-    if u_lobe <= r {
+    if u_lobe < r {
         return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), vec3<f32>(1.0), r, true);
     }
     return BsdfSample(-wo, b.tf, 1.0 - r, true);

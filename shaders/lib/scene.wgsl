@@ -105,11 +105,10 @@ struct Material {
     distribution: u32,
     k: vec3<f32>,
     fresnel: u32,
-    // The back face's material + 1, or 0: both faces shade alike (packed above the model's
-    // MATERIAL_KIND_BITS in the record's kind word: src/scene/material_tables.rs).
-    back: u32,
 }
 
+// The record's kind word holds the model in its low MATERIAL_KIND_BITS and above them the back
+// face's material + 1, or 0 where both faces shade alike (src/scene/material_tables.rs).
 const MATERIAL_KIND_BITS: u32 = 4u;
 
 const FRESNEL_NONE: u32 = 0u;
@@ -291,16 +290,18 @@ fn scene_material(view: texture_storage_2d<rgba32uint, read>, i: u32) -> Materia
                     bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz),
                     bitcast<f32>(d.w), e.x, e.y, e.z, e.w, bitcast<f32>(f.x), f.y, f.z,
                     bitcast<f32>(f.w), bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz),
-                    h.w, b.w >> MATERIAL_KIND_BITS);
+                    h.w);
 }
 
 // The material that shades material i's face hit from the front (true) or from behind.
 fn scene_face_material(view: texture_storage_2d<rgba32uint, read>, i: u32, front: bool) -> Material {
-    let m = scene_material(view, i);
-    if scene_has_back_materials && !front && m.back != 0u {
-        return scene_material(view, m.back - 1u);
+    if scene_has_back_materials && !front {
+        let back = scene_texel(view, 8u * i + 1u).w >> MATERIAL_KIND_BITS;
+        if back != 0u {
+            return scene_material(view, back - 1u);
+        }
     }
-    return m;
+    return scene_material(view, i);
 }
 
 // Only the emitted radiance of material i (what light sampling needs).

@@ -17,14 +17,15 @@ pub fn thin_reflectance(b: &Bsdf, cos: f32) -> f32 {
     r * 2.0 / (1.0 + r)
 }
 
-/// `u_lobe <= R'` reflects (weight 1), else passes through (weight tf); the pdf is the chosen
+/// `u_lobe < R'` reflects (weight 1), else passes through (weight tf; always at R' = 0, a
+/// sheet of index 1: Mitsuba's null, src/scene/mitsuba_xml/bsdf.rs); the pdf is the chosen
 /// lobe's probability.
 pub fn sample(b: &Bsdf, wo: Vec3, u_lobe: f32) -> Sample {
     if wo.z <= 0.0 {
         return Sample::failed(Vec3::Z);
     }
     let r = thin_reflectance(b, wo.z);
-    if u_lobe <= r {
+    if u_lobe < r {
         return Sample {
             wi: Vec3::new(-wo.x, -wo.y, wo.z),
             weight: Vec3::ONE,

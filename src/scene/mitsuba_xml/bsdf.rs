@@ -11,7 +11,7 @@
 //! | `twosided` of two BSDFs | the first in front, the second behind (a back-face material) |
 //! | `mask` | the BSDF with `opacity` (a number or a texture) |
 //! | `normalmap`, `bumpmap` | the BSDF with its surface map |
-//! | `null` | a fully transparent material (opacity 0) |
+//! | `null` | a thin sheet of index 1 (passes every ray straight through as a bounce, stops shadow rays, may emit: Mitsuba's null interaction) |
 //!
 //! passgraph's reflecting models shade both faces, as Mitsuba's `twosided`; Mitsuba's bare
 //! `diffuse`, `conductor` and `plastic` are black from behind, which passgraph renders with a
@@ -408,6 +408,12 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             if b.material.opacity < 1.0 || b.material.map_d != NO_TEXTURE || b.null {
                 return Err(plugin.error("a mask inside a mask or around null is not supported"));
             }
+            // Mitsuba's mask is a mixture with a null interaction (a bounce, a stop for shadow
+            // rays); passgraph's cut-out lets the ray on where it is not hit, at no depth.
+            builder.warn(format!(
+                "{}: bsdf 'mask': Mitsuba counts each pass through a mask as a bounce and stops shadow rays at it; passgraph's cut-out lets rays through at no depth: equal in expectation where max_depth does not cut those paths (max_depth -1), brighter otherwise",
+                plugin.at.location()
+            ));
             match plugin.color("opacity")? {
                 None => b.material.opacity = 0.5,
                 Some(ColorParam::Constant(c)) => {
@@ -486,20 +492,14 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             return Ok(b);
         }
         "null" => {
-            // Mitsuba's path integrator spends a bounce at each crossing of a null surface
-            // and stops shadow rays there (the light behind comes through BSDF samples);
-            // passgraph's transparent surface costs nothing. Equal in expectation only where
-            // the depth limit is not reached.
-            builder.warn(format!(
-                "{}: bsdf 'null': Mitsuba counts each crossing of a null surface as a bounce, passgraph's fully transparent surface costs none: where max_depth cuts paths that cross it, the images differ",
-                plugin.at.location()
-            ));
+            // Mitsuba's path integrator spends a bounce at each crossing of a null surface, does
+            // no next-event estimation there and stops shadow rays at it (the light behind
+            // comes through BSDF samples); it may emit. A thin sheet of index 1 is all of
+            // that: Fresnel 0, so every sample passes straight through (a delta event of
+            // weight 1), an occluder to shadow rays, and its emission is the material's.
             null = true;
             back = Back::Same;
-            Material {
-                opacity: 0.0,
-                ..Material::diffuse([0.0; 3])
-            }
+            Material::thin_dielectric(1.0, [1.0; 3])
         }
         other => {
             return Err(plugin.error(format!(

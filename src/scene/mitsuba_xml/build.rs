@@ -357,9 +357,6 @@ impl Builder {
                 )));
             }
             e.finish()?;
-            if b.null {
-                return Err(e.error("an area emitter on a null BSDF is not supported (passgraph's fully transparent surfaces do not emit)"));
-            }
             material.ke = radiance.map(|v| v as f32);
         }
         plugin.finish()?;
