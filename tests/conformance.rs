@@ -6,7 +6,7 @@
 //! z-test against the scene's 32768-spp Mitsuba reference and variance
 //! (tests/common/conformance.rs: XYZ, variance floor 1e-4, Šidák 0.01 over the pixels, 99.75 %
 //! of the values). `tests/conformance_ztest.rs` shows the test passes Mitsuba's own
-//! independent renders and fails wrong ones. 26 of the 34 scenes pass; the other 8 are
+//! independent renders and fails wrong ones. 33 of the 34 scenes pass; the other is
 //! [`KNOWN_DIFFERENCES`], each with what differs, and those that load must keep failing until
 //! a fix moves them here. On the GPU (lavapipe in CI).
 
@@ -66,16 +66,6 @@ const KNOWN_DIFFERENCES: &[(&str, bool, &str)] = &[
         "mask",
         true,
         "Mitsuba's mask is a null interaction that counts as a path segment and blocks shadow rays; passgraph's cut-outs are free",
-    ),
-    (
-        "roughconductor_beckmann",
-        true,
-        "32 of 6912 values fail (17 allowed), on the spheres' lower edges: not found yet",
-    ),
-    (
-        "thindielectric",
-        true,
-        "24 of 6912 values fail (17 allowed), on the wall's top edge seen through the panes: not found yet",
     ),
 ];
 
@@ -145,11 +135,13 @@ conformance_scenes!(
     point_spot,
     rfilter_gaussian,
     rfilter_tent,
+    roughconductor_beckmann,
     roughconductor_ggx,
     roughdielectric,
     roughplastic,
     shapes,
     structure,
+    thindielectric,
     thinlens,
     twosided,
 );

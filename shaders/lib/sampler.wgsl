@@ -21,14 +21,14 @@ const DIM_DIRECT_LIGHT: u32 = 3u;     // direct: point on the light
 const DIM_BOUNCE: u32 = 4u;           // indirect: bounce direction
 const DIM_BOUNCE_SELECT: u32 = 5u;    // indirect: which light at the bounce's hit
 const DIM_BOUNCE_LIGHT: u32 = 6u;     // indirect: point on that light
-const DIM_DIRECT_BSDF: u32 = 7u;      // direct: BSDF-sampled direction at the primary hit (MIS)
+// Pair 7 is free. The direct channel's BSDF sample at the primary hit (its MIS half) takes
+// the first bounce's pairs, DIM_BOUNCE and DIM_BOUNCE_LOBE: one path (lib/shade_direct.wgsl).
 const SAMPLER_LIGHT_STRIDE: u32 = 8u;
 // The thin lens's aperture sample (lib/camera_ray.wgsl): far from every other pair, so pairs
 // added above never meet it and no other pass's samples move.
 const DIM_LENS: u32 = 0x30000000u;
 // 1D choices of a BSDF lobe, and every sample of path vertices past the first bounce's hit,
 // take pairs far above the light pairs (dim + 8 i): path_dim below.
-const DIM_DIRECT_LOBE: u32 = 0x40000000u;
 const DIM_BOUNCE_LOBE: u32 = 0x40000001u;
 
 // The sampler pair `slot` (PATH_DIM_*) of the vertex that ends a path's `depth`-th segment
