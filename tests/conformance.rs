@@ -6,9 +6,8 @@
 //! z-test against the scene's 32768-spp Mitsuba reference and variance
 //! (tests/common/conformance.rs: XYZ, variance floor 1e-4, Šidák 0.01 over the pixels, 99.75 %
 //! of the values). `tests/conformance_ztest.rs` shows the test passes Mitsuba's own
-//! independent renders and fails wrong ones. 33 of the 34 scenes pass; the other is
-//! [`KNOWN_DIFFERENCES`], each with what differs, and those that load must keep failing until
-//! a fix moves them here. On the GPU (lavapipe in CI).
+//! independent renders and fails wrong ones. All 34 scenes pass. On the GPU (lavapipe in
+//! CI).
 
 mod common;
 
@@ -27,14 +26,8 @@ fn samples_per_frame(spp: u32) -> u32 {
         .unwrap()
 }
 
-/// The scene rendered at its budget, and Mitsuba's z-test of it.
-fn z_test(
-    feature: &str,
-) -> (
-    common::conformance::ZTest,
-    passgraph::render::image::RgbImage,
-    u32,
-) {
+/// The scene rendered at its budget and judged by Mitsuba's z-test.
+fn conform(feature: &str) {
     let reference = Reference::read(feature);
     let spp = scene_spp(feature);
     let per_frame = samples_per_frame(spp);
@@ -49,41 +42,7 @@ fn z_test(
         )
     };
     let session = render(&settings, spp / per_frame);
-    let img = image(&session, "l0+direct+indirect");
-    (common::conformance::z_test(&reference, &img, spp), img, spp)
-}
-
-fn conform(feature: &str) {
-    let (_, img, spp) = z_test(feature);
-    check_scene(feature, &img, spp);
-}
-
-/// Scenes passgraph does not pass yet, each with what differs (tests/data/conformance/README.md
-/// has the pass fractions). Those that load are rendered and must still fail: one that starts
-/// to pass is reported, to be moved to the passing list.
-const KNOWN_DIFFERENCES: &[(&str, bool, &str)] = &[
-    (
-        "mask",
-        true,
-        "Mitsuba's mask is a null interaction that counts as a path segment and blocks shadow rays; passgraph's cut-outs are free",
-    ),
-];
-
-#[test]
-fn known_differences_still_differ() {
-    for &(feature, loads, why) in KNOWN_DIFFERENCES {
-        if !loads {
-            // Their load errors are tests/mitsuba_xml.rs's.
-            continue;
-        }
-        let (test, _, _) = z_test(feature);
-        eprintln!("{}", test.summary());
-        assert!(
-            !test.passed,
-            "{feature} passes now ({}): move it to the passing scenes (it was: {why})",
-            test.summary()
-        );
-    }
+    check_scene(feature, &image(&session, "l0+direct+indirect"), spp);
 }
 
 macro_rules! conformance_scenes {
@@ -95,15 +54,14 @@ macro_rules! conformance_scenes {
             }
         )*
 
-        /// Every scene in the folder passes or is a known difference: none goes unjudged.
+        /// Every scene in the folder is rendered and judged: none goes untested.
         #[test]
         fn every_conformance_scene_is_tested() {
             let tested = [$(stringify!($feature)),*];
             for feature in features() {
-                let known = KNOWN_DIFFERENCES.iter().any(|k| k.0 == feature);
                 assert!(
-                    tested.contains(&feature.as_str()) != known,
-                    "tests/data/conformance/{feature}.xml must be a passing scene or a known difference in tests/conformance.rs, not both or neither"
+                    tested.contains(&feature.as_str()),
+                    "tests/data/conformance/{feature}.xml is not in tests/conformance.rs's list"
                 );
             }
         }
@@ -125,6 +83,7 @@ conformance_scenes!(
     fov_smaller,
     fov_y,
     instances,
+    mask,
     meshes,
     normalmap,
     normals,

@@ -566,6 +566,41 @@ fn one_sided_and_two_sided_bsdfs_get_their_back_face_materials() {
     );
 }
 
+/// Mitsuba's mask is a mixture with a null interaction: its triangles stop every ray (shadow
+/// rays stop at it) and its record keeps the opacity that shading mixes by; an MTL cut-out
+/// stays in its triangles, which the traversal passes at no depth.
+#[test]
+fn a_mask_is_a_null_interaction_and_an_mtl_cutout_stays_a_cutout() {
+    use passgraph::scene::gpu::{Material, SceneGpu};
+    let dir = tempfile::tempdir().unwrap();
+    let path = scene_file(
+        dir.path(),
+        r#"<shape type="sphere"><bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="diffuse"/></bsdf></shape><shape type="sphere"><bsdf type="diffuse"/></shape>"#,
+    );
+    let mesh = load(&path, &[]).unwrap().scene.mesh;
+    assert_eq!(mesh.null_masks.len(), 1, "{:?}", mesh.null_masks);
+    let mask = *mesh.null_masks.iter().next().unwrap();
+    assert_eq!(mesh.materials[mask as usize].opacity, 0.4);
+    let gpu = SceneGpu::build(&mesh);
+    assert!(gpu.has_null_masks && !gpu.has_cutouts);
+    assert!(gpu.triangles.iter().all(|t| t.opacity == 1.0));
+    assert_eq!(gpu.materials[mask as usize].opacity, 0.4);
+
+    let mut cutout =
+        passgraph::scene::mesh::Mesh::from_triangles("cutout", &[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
+    cutout.materials[0] = Material {
+        opacity: 0.5,
+        ..Material::DEFAULT
+    };
+    let gpu = SceneGpu::build(&cutout);
+    assert!(gpu.has_cutouts && !gpu.has_null_masks);
+    assert_eq!(gpu.triangles[0].opacity, 0.5);
+    assert_eq!(
+        gpu.materials[0].opacity, 1.0,
+        "shading must not mix a cut-out again"
+    );
+}
+
 /// Every conformance scene loads (each is inside the subset).
 #[test]
 fn every_conformance_scene_loads() {

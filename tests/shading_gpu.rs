@@ -115,6 +115,9 @@ fn scene(rng: &mut Rng) -> SceneGpu {
             random_texture(rng, 8, 16),
         ],
         back_materials: Default::default(),
+        // Null masks keep their opacity in the record (a cut-out's lives in its triangles),
+        // where shading reads it through material_at.
+        null_masks: (0..3).collect(),
         warnings: Vec::new(),
     };
     SceneGpu::build(&mesh)

@@ -123,6 +123,7 @@ fn scene(rng: &mut Rng) -> SceneGpu {
             .to_vec(),
         textures: vec![normal_texture(rng, 5, 7), height_texture(rng, 9, 4)],
         back_materials: Default::default(),
+        null_masks: Default::default(),
         warnings: Vec::new(),
     };
     SceneGpu::build(&mesh)

@@ -148,5 +148,5 @@ fn emission_weighted(p: ShadingPoint, origin: vec3<f32>, bs: BsdfSample, q: Shad
 
 // Whether a vertex takes a BSDF sample for the emitters it hits (besides any it needs to go on).
 fn samples_bsdf_for_light(p: ShadingPoint) -> bool {
-    return mis_uses_bsdf() || bsdf_is_delta(p.b);
+    return mis_uses_bsdf() || bsdf_is_delta(p.b) || (scene_has_null_masks && p.opacity < 1.0);
 }

@@ -47,6 +47,10 @@ override scene_has_conductor_fresnel: bool = true;
 // Whether a used material shades its back face as another material (Mitsuba's one-sided
 // models: a black one; twosided with two BSDFs): scene_face_material.
 override scene_has_back_materials: bool = true;
+// Whether a used material is a null mask (Mitsuba's mask: src/scene/mesh.rs, Mesh::null_masks):
+// its record's opacity (or map_d at the hit) is the probability the surface is there
+// (lib/shading_point.wgsl).
+override scene_has_null_masks: bool = true;
 
 fn scene_has_kind(kind: u32) -> bool {
     return (scene_material_kinds & (1u << kind)) != 0u;

@@ -194,7 +194,7 @@ const OVERRIDES: &[Override] = &[
     Override {
         name: "scene_has_cutouts",
         ty: ParamType::Bool,
-        what: "whether a used material is cut out (opacity d < 1 or map_d)",
+        what: "whether a triangle is cut out (MTL opacity d < 1 or map_d; not a null mask)",
         value: |gpu| if gpu.has_cutouts { 1.0 } else { 0.0 },
     },
     Override {
@@ -232,6 +232,12 @@ const OVERRIDES: &[Override] = &[
         ty: ParamType::Bool,
         what: "whether a used material shades its back face as another (Mitsuba's one-sided models; twosided with two BSDFs)",
         value: |gpu| if gpu.has_back_materials { 1.0 } else { 0.0 },
+    },
+    Override {
+        name: "scene_has_null_masks",
+        ty: ParamType::Bool,
+        what: "whether a used material is a null mask (Mitsuba's mask: shades with probability opacity, else the path goes straight on)",
+        value: |gpu| if gpu.has_null_masks { 1.0 } else { 0.0 },
     },
     Override {
         name: "scene_has_conductor_fresnel",

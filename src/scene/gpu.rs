@@ -537,6 +537,8 @@ pub struct SceneGpu {
     pub has_conductor_fresnel: bool,
     /// Whether a used material has a back-face material: `scene_has_back_materials`.
     pub has_back_materials: bool,
+    /// Whether a used material is a null mask (`Mesh::null_masks`): `scene_has_null_masks`.
+    pub has_null_masks: bool,
     pub bvh: BvhStats,
 }
 
@@ -563,12 +565,27 @@ impl SceneGpu {
                 Triangle::new(source.vertices, source.material)
             })
             .collect();
-        let materials = mesh.materials.clone();
+        let mut materials = mesh.materials.clone();
         let lights = scene_lights(&triangles, &materials);
         for t in &mut triangles {
-            t.opacity = materials
-                .get(t.material as usize)
-                .map_or(1.0, Triangle::opacity_of);
+            // A null mask stops every ray (Mitsuba's shadow rays stop at a mask): shading
+            // draws its pass-through.
+            if !mesh.null_masks.contains(&t.material) {
+                t.opacity = materials
+                    .get(t.material as usize)
+                    .map_or(1.0, Triangle::opacity_of);
+            }
+        }
+        // A cut-out lives in its triangles; the record keeps the opacity of null masks only,
+        // so that shading reads any opacity below 1 as a null mask's.
+        let mut has_cutout_materials = false;
+        for (i, m) in materials.iter_mut().enumerate() {
+            if !mesh.null_masks.contains(&(i as u32)) && (m.opacity < 1.0 || m.map_d != NO_TEXTURE)
+            {
+                has_cutout_materials = true;
+                m.opacity = 1.0;
+                m.map_d = NO_TEXTURE;
+            }
         }
         for (index, light) in lights.iter().enumerate() {
             for t in light.triangles() {
@@ -578,10 +595,11 @@ impl SceneGpu {
         let light_power = light_power(&lights, &materials);
         // Shadow rays start at occluder_root, which must stay the occluders' subtree.
         let keep_root = bvh.occluder_root > 0 && (bvh.occluder_root as usize) < bvh.nodes.len();
+        // A null mask's pass-through is a delta lobe.
         let has_specular = triangles.iter().any(|t| {
             materials
                 .get(t.material as usize)
-                .is_some_and(Material::is_specular)
+                .is_some_and(|m| m.is_specular() || mesh.null_masks.contains(&t.material))
         });
         // The back-face materials of the used ones are used too.
         let back_materials: BTreeMap<u32, u32> = mesh
@@ -597,7 +615,11 @@ impl SceneGpu {
                 .iter()
                 .any(|&t| t != NO_TEXTURE)
         });
-        let has_cutouts = used
+        let has_cutouts = has_cutout_materials
+            && triangles
+                .iter()
+                .any(|t| t.opacity < 1.0 && !mesh.null_masks.contains(&t.material));
+        let has_null_masks = used
             .iter()
             .any(|m| m.opacity < 1.0 || m.map_d != NO_TEXTURE);
         let has_surface_maps = used.iter().any(|m| m.surface_map != NO_TEXTURE);
@@ -638,6 +660,7 @@ impl SceneGpu {
             has_beckmann,
             has_conductor_fresnel,
             has_back_materials: !back_materials.is_empty(),
+            has_null_masks,
             triangles,
             materials,
             back_materials,

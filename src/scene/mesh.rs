@@ -7,7 +7,7 @@ use super::{obj, ply};
 use glam::{Vec2, Vec3};
 pub(crate) use obj::load_obj_geometry;
 pub(crate) use ply::load_ply_with_attributes;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// One triangle in file order; `material` indexes [`Mesh::materials`].
@@ -48,6 +48,11 @@ pub struct Mesh {
     /// material `back`: Mitsuba's one-sided models (black from behind) and `twosided` with two
     /// BSDFs. Every material not in the map shades both sides alike (passgraph's default).
     pub back_materials: BTreeMap<u32, u32>,
+    /// Materials whose opacity (`opacity` < 1 or `map_d`) is Mitsuba's `mask`: at a hit the
+    /// surface shades with probability opacity and otherwise is a null interaction (the path
+    /// goes straight on, one segment longer, and shadow rays stop there). Every other
+    /// material's opacity cuts its surface out (MTL `d`: rays pass at no depth).
+    pub null_masks: BTreeSet<u32>,
     /// What loaded but will not render as written, each naming the file (and line): for the
     /// command line to print.
     pub warnings: Vec<String>,
@@ -75,6 +80,7 @@ impl Mesh {
             material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
             textures: Vec::new(),
             back_materials: BTreeMap::new(),
+            null_masks: BTreeSet::new(),
             warnings: Vec::new(),
         }
     }

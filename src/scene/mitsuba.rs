@@ -535,7 +535,9 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
         }
         other => return Err(format!("material '{name}' has unknown kind {other}")),
     };
-    // Cut-outs: Mitsuba's mask passes light through with probability 1 - opacity.
+    // Cut-outs as Mitsuba's mask, which passes light through with probability 1 - opacity
+    // but as a null interaction: a path segment, and a stop for shadow rays (the loader reads
+    // it back so, Mesh::null_masks). The same image where max_depth cuts no path through it.
     if m.map_d != NO_TEXTURE {
         let opacity = bitmap("opacity", &textures[m.map_d as usize], true, name)?;
         return Ok(format!(
@@ -611,6 +613,7 @@ mod tests {
                 material_names: names,
                 textures: vec![texture],
                 back_materials: Default::default(),
+                null_masks: Default::default(),
                 warnings: Vec::new(),
             },
             camera: CameraDesc::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0).unwrap(),

@@ -812,6 +812,7 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
         material_names: materials.iter().map(|m| m.name.clone()).collect(),
         textures: checked.textures.list,
         back_materials: Default::default(),
+        null_masks: Default::default(),
     };
     // tobj keeps the faces' order (its models follow the file) and fans each the same way.
     let mut corners = checked.faces.iter().flat_map(|face| {

@@ -149,6 +149,7 @@ fn load(path: &Path, attributes: bool) -> Result<Mesh, SceneError> {
         material_names: vec![DEFAULT_MATERIAL_NAME.to_string()],
         textures: Vec::new(),
         back_materials: Default::default(),
+        null_masks: Default::default(),
     })
 }
 

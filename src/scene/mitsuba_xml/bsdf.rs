@@ -408,12 +408,8 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
             if b.material.opacity < 1.0 || b.material.map_d != NO_TEXTURE || b.null {
                 return Err(plugin.error("a mask inside a mask or around null is not supported"));
             }
-            // Mitsuba's mask is a mixture with a null interaction (a bounce, a stop for shadow
-            // rays); passgraph's cut-out lets the ray on where it is not hit, at no depth.
-            builder.warn(format!(
-                "{}: bsdf 'mask': Mitsuba counts each pass through a mask as a bounce and stops shadow rays at it; passgraph's cut-out lets rays through at no depth: equal in expectation where max_depth does not cut those paths (max_depth -1), brighter otherwise",
-                plugin.at.location()
-            ));
+            // A mixture with a null interaction, as Mitsuba's: the mesh's null masks are the
+            // materials with an opacity (build.rs).
             match plugin.color("opacity")? {
                 None => b.material.opacity = 0.5,
                 Some(ColorParam::Constant(c)) => {

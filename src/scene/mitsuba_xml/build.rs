@@ -13,7 +13,7 @@ use crate::scene::emitters::{AnalyticLight, Emitters};
 use crate::scene::environment::Environment;
 use crate::scene::error::SceneError;
 use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
-use crate::scene::gpu::Material;
+use crate::scene::gpu::{Material, NO_TEXTURE};
 use crate::scene::mesh::{
     MAX_COORDINATE, Mesh, MeshTriangle, load_obj_geometry, load_ply_with_attributes,
 };
@@ -77,13 +77,6 @@ impl Builder {
         let i = self.add_texture(t);
         self.texture_index.insert(key, i);
         Ok(i)
-    }
-
-    /// A note for the command line to print (what loads but renders unlike Mitsuba somewhere).
-    pub fn warn(&mut self, message: String) {
-        if !self.warnings.contains(&message) {
-            self.warnings.push(message);
-        }
     }
 
     /// Adds a texture made by the loader (a checkerboard's).
@@ -578,6 +571,14 @@ pub fn build(
         }
     }
     b.warnings.extend(sensor.border_note.clone());
+    // Every opacity a Mitsuba scene gives is a mask's (bsdf.rs): a null interaction where
+    // the surface is not hit, not a cut-out.
+    let null_masks = (0..b.materials.len() as u32)
+        .filter(|&i| {
+            let m = &b.materials[i as usize];
+            m.opacity < 1.0 || m.map_d != NO_TEXTURE
+        })
+        .collect();
     let mesh = Mesh {
         path: path.to_path_buf(),
         triangles: b.triangles,
@@ -585,6 +586,7 @@ pub fn build(
         material_names: b.material_names,
         textures: b.textures,
         back_materials: b.back_materials,
+        null_masks,
         warnings: b.warnings,
     };
     Ok(Built {
