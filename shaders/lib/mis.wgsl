@@ -18,11 +18,16 @@ fn mis_uses_light() -> bool {
 }
 
 // Whether BSDF-sampled rays that hit an emitter count (at non-delta vertices). With only
-// Lambertian surfaces (scene_has_specular false) the combination leaves light sampling alone:
-// a cosine lobe is much wider than the lights, so BSDF samples would add a ray per vertex and
-// almost nothing to the estimate.
+// Lambertian surfaces (scene_has_specular false) and no environment the combination leaves
+// light sampling alone: a cosine lobe is much wider than the lights, so BSDF samples would add
+// a ray per vertex and almost nothing to the estimate. An environment is as wide as the lobe:
+// its light sample is uniform on the sphere (or follows the map), half of it below the surface
+// and none of it cosine-weighted, and alone it had 3x Mitsuba's per-sample variance on a
+// diffuse floor under a uniform sky (tests/data/conformance/orthographic.xml, independent
+// sampler).
 fn mis_uses_bsdf() -> bool {
-    return mis_strategy == MIS_BSDF_ONLY || (mis_strategy == MIS_BOTH && scene_has_specular);
+    return mis_strategy == MIS_BSDF_ONLY
+        || (mis_strategy == MIS_BOTH && (scene_has_specular || scene_environment != 0xffffffffu));
 }
 
 // The power heuristic's weight of a sample drawn with density `own` when `other` would also
