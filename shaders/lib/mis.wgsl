@@ -27,7 +27,7 @@ fn mis_uses_light() -> bool {
 // sampler).
 fn mis_uses_bsdf() -> bool {
     return mis_strategy == MIS_BSDF_ONLY
-        || (mis_strategy == MIS_BOTH && (scene_has_specular || scene_environment != 0xffffffffu));
+        || (mis_strategy == MIS_BOTH && (scene_has_specular || scene_environment != NO_LIGHT));
 }
 
 // The power heuristic's weight of a sample drawn with density `own` when `other` would also

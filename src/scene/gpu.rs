@@ -383,6 +383,12 @@ impl Material {
         self.ke.iter().any(|&c| c > 0.0)
     }
 
+    /// Whether the surface is not all there: an opacity below 1 or an opacity map (`map_d`),
+    /// a cut-out or a null mask (`Mesh::null_masks`).
+    pub fn has_opacity(&self) -> bool {
+        self.opacity < 1.0 || self.map_d != NO_TEXTURE
+    }
+
     /// Whether the model has a lobe other than Lambert's (Phong with ks > 0 or any GGX or
     /// smooth model).
     pub fn is_specular(&self) -> bool {
@@ -500,7 +506,8 @@ pub struct SceneGpu {
     /// An environment map's sampling tables (`environment.rs`), after the weights in
     /// `scene.light_power`; empty without a map.
     pub environment_table: Vec<f32>,
-    /// Whether a triangle uses a material with Ks > 0: the `scene_has_specular` override.
+    /// Whether a triangle uses a material with Ks > 0 or a null mask (a delta pass-through):
+    /// the `scene_has_specular` override.
     pub has_specular: bool,
     /// Bit `1 << kind` for each material kind a triangle uses: the `scene_material_kinds`
     /// override, which specialises the shaders to those models.
@@ -578,11 +585,8 @@ impl SceneGpu {
         }
         // A cut-out lives in its triangles; the record keeps the opacity of null masks only,
         // so that shading reads any opacity below 1 as a null mask's.
-        let mut has_cutout_materials = false;
         for (i, m) in materials.iter_mut().enumerate() {
-            if !mesh.null_masks.contains(&(i as u32)) && (m.opacity < 1.0 || m.map_d != NO_TEXTURE)
-            {
-                has_cutout_materials = true;
+            if !mesh.null_masks.contains(&(i as u32)) && m.has_opacity() {
                 m.opacity = 1.0;
                 m.map_d = NO_TEXTURE;
             }
@@ -595,11 +599,10 @@ impl SceneGpu {
         let light_power = light_power(&lights, &materials);
         // Shadow rays start at occluder_root, which must stay the occluders' subtree.
         let keep_root = bvh.occluder_root > 0 && (bvh.occluder_root as usize) < bvh.nodes.len();
-        // A null mask's pass-through is a delta lobe.
         let has_specular = triangles.iter().any(|t| {
             materials
                 .get(t.material as usize)
-                .is_some_and(|m| m.is_specular() || mesh.null_masks.contains(&t.material))
+                .is_some_and(Material::is_specular)
         });
         // The back-face materials of the used ones are used too.
         let back_materials: BTreeMap<u32, u32> = mesh
@@ -615,13 +618,11 @@ impl SceneGpu {
                 .iter()
                 .any(|&t| t != NO_TEXTURE)
         });
-        let has_cutouts = has_cutout_materials
-            && triangles
-                .iter()
-                .any(|t| t.opacity < 1.0 && !mesh.null_masks.contains(&t.material));
-        let has_null_masks = used
-            .iter()
-            .any(|m| m.opacity < 1.0 || m.map_d != NO_TEXTURE);
+        // Only cut-outs' triangles have an opacity; only null masks' records do.
+        let has_cutouts = triangles.iter().any(|t| t.opacity < 1.0);
+        let has_null_masks = used.iter().any(Material::has_opacity);
+        // A null mask's pass-through is a delta lobe.
+        let has_specular = has_specular || has_null_masks;
         let has_surface_maps = used.iter().any(|m| m.surface_map != NO_TEXTURE);
         let has_beckmann = used.iter().any(Material::uses_beckmann);
         let has_conductor_fresnel = used.iter().any(Material::uses_conductor_fresnel);

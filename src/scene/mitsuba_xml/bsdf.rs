@@ -390,7 +390,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
                             "the two sides' textures have different to_uv (passgraph's triangles have one set of uvs)",
                         ));
                     }
-                    if b.material.opacity < 1.0 || b.material.map_d != NO_TEXTURE {
+                    if b.material.has_opacity() {
                         return Err(plugin.error_at(
                             at,
                             "a mask on the back BSDF of a twosided is not supported (put the mask around the twosided)",
@@ -405,7 +405,7 @@ pub fn bsdf(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<Bsdf, SceneErr
         "mask" => {
             let inner = single_inner(plugin)?;
             let mut b = bsdf(builder, &inner.plugin)?;
-            if b.material.opacity < 1.0 || b.material.map_d != NO_TEXTURE || b.null {
+            if b.material.has_opacity() || b.null {
                 return Err(plugin.error("a mask inside a mask or around null is not supported"));
             }
             // A mixture with a null interaction, as Mitsuba's: the mesh's null masks are the

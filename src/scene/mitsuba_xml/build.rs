@@ -13,7 +13,7 @@ use crate::scene::emitters::{AnalyticLight, Emitters};
 use crate::scene::environment::Environment;
 use crate::scene::error::SceneError;
 use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
-use crate::scene::gpu::{Material, NO_TEXTURE};
+use crate::scene::gpu::Material;
 use crate::scene::mesh::{
     MAX_COORDINATE, Mesh, MeshTriangle, load_obj_geometry, load_ply_with_attributes,
 };
@@ -574,10 +574,7 @@ pub fn build(
     // Every opacity a Mitsuba scene gives is a mask's (bsdf.rs): a null interaction where
     // the surface is not hit, not a cut-out.
     let null_masks = (0..b.materials.len() as u32)
-        .filter(|&i| {
-            let m = &b.materials[i as usize];
-            m.opacity < 1.0 || m.map_d != NO_TEXTURE
-        })
+        .filter(|&i| b.materials[i as usize].has_opacity())
         .collect();
     let mesh = Mesh {
         path: path.to_path_buf(),
