@@ -86,6 +86,9 @@ enum Command {
         /// A Mitsuba XML scene's parameter, as `mitsuba -D`.
         #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
         define: Vec<(String, String)>,
+        /// A glTF scene's camera, by its name or its node's (default: the first).
+        #[arg(long, value_name = "NAME")]
+        camera: Option<String>,
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
@@ -126,6 +129,9 @@ struct RenderArgs {
     /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
+    /// A glTF scene's camera, by its name or its node's (default: the first).
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
@@ -209,6 +215,9 @@ struct ViewArgs {
     /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
+    /// A glTF scene's camera, by its name or its node's (default: the first).
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
@@ -237,6 +246,9 @@ struct BenchArgs {
     /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
+    /// A glTF scene's camera, by its name or its node's (default: the first).
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
@@ -382,6 +394,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
     let scene_options = passgraph::scene::SceneOptions {
         defines: args.define.clone(),
         max_depth: None,
+        camera: args.camera.clone(),
     };
     let scene = passgraph::scene::load_scene_with(&args.scene, &scene_options)
         .map_err(|e| e.to_string())?
@@ -413,6 +426,7 @@ fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run::Run>, Str
             keep: Keep::Outputs,
             max_depth: args.max_depth,
             defines: args.define.clone(),
+            camera: args.camera.clone(),
         };
         eprintln!("bench {label} ...");
         let r =
@@ -633,6 +647,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         keep: Keep::Outputs,
         max_depth: args.max_depth,
         defines: args.define.clone(),
+        camera: args.camera.clone(),
     };
     // A partial file reads the whole accumulation back: only an untiled session has one.
     let mut render = match &args.partial {
@@ -961,6 +976,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 keep: Keep::EveryTexture,
                 max_depth: a.max_depth,
                 defines: a.define,
+                camera: a.camera,
             },
             window_scale: 2,
             script: a.script,
@@ -1014,6 +1030,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         Command::MitsubaScene {
             scene,
             define,
+            camera,
             out,
             size,
             max_depth,
@@ -1021,6 +1038,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let options = passgraph::scene::SceneOptions {
                 defines: define,
                 max_depth: None,
+                camera,
             };
             let scene = passgraph::scene::load_scene_with(&scene, &options)
                 .map_err(|e| e.to_string())?

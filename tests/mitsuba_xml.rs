@@ -26,6 +26,7 @@ fn load(path: &Path, defines: &[(&str, &str)]) -> Result<LoadedScene, SceneError
             .map(|(n, v)| (n.to_string(), v.to_string()))
             .collect(),
         max_depth: None,
+        camera: None,
     };
     load_scene_with(path, &options)
 }

@@ -25,6 +25,7 @@
 #include "bsdf_plastic.wgsl"
 #include "bsdf_dielectric.wgsl"
 #include "bsdf_thin_dielectric.wgsl"
+#include "bsdf_metallic_roughness.wgsl"
 
 // A material at one shading point, textures already applied.
 struct Bsdf {
@@ -81,6 +82,9 @@ fn bsdf_eval(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, wi: vec3<f32>)
     if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
         return dielectric_eval(b, outside, wo * frame, wi * frame);
     }
+    if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS) && b.kind == MATERIAL_METALLIC_ROUGHNESS {
+        return metallic_roughness_eval(b, wo * frame, wi * frame);
+    }
     return vec3<f32>(0.0);
 }
 
@@ -101,10 +105,13 @@ fn bsdf_pdf(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, wi: vec3<f32>) 
     if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
         return dielectric_pdf(b, outside, wo * frame, wi * frame);
     }
+    if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS) && b.kind == MATERIAL_METALLIC_ROUGHNESS {
+        return metallic_roughness_pdf(b, wo * frame, wi * frame);
+    }
     return 0.0;
 }
 
-// u picks the direction within a lobe, u_lobe the lobe (plastic, dielectric).
+// u picks the direction within a lobe, u_lobe the lobe (plastic, dielectric, metallic-roughness).
 fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
     -> BsdfSample {
     if scene_has_kind(MATERIAL_LAMBERT) && b.kind == MATERIAL_LAMBERT {
@@ -123,6 +130,9 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
         s = dielectric_sample(b, outside, wo * frame, u, u_lobe);
     } else if scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC {
         s = thin_dielectric_sample(b, wo * frame, u_lobe);
+    } else if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS)
+        && b.kind == MATERIAL_METALLIC_ROUGHNESS {
+        s = metallic_roughness_sample(b, wo * frame, u, u_lobe);
     } else {
         return s;
     }

@@ -140,6 +140,7 @@ const MATERIAL_CONDUCTOR: u32 = 2u;
 const MATERIAL_PLASTIC: u32 = 3u;
 const MATERIAL_DIELECTRIC: u32 = 4u;
 const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
+const MATERIAL_METALLIC_ROUGHNESS: u32 = 6u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const SURFACE_MAP_BUMP: u32 = 0x80000000u;
 const NO_TABLE: u32 = 0xffffffffu;

@@ -15,6 +15,8 @@ pub mod frame;
 pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
+pub mod metallic_roughness;
+pub mod metallic_roughness_table;
 pub mod microfacet;
 pub mod phong;
 pub mod plastic;
@@ -22,8 +24,9 @@ pub mod plastic_tables;
 pub mod thin_dielectric;
 
 use crate::scene::gpu::{
-    Distribution, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG,
-    MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material,
+    Distribution, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+    MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
+    Material,
 };
 use crate::scene::material_tables::NO_TABLE;
 use frame::{basis, to_local};
@@ -56,7 +59,7 @@ impl Bsdf {
     /// `m` from a materials view's texels (`texels`, as `SceneGpu::materials_texels` lays them
     /// out), its table read where `m.table` points as the GPU reads it.
     pub fn from_material(m: &Material, texels: &[[f32; 4]]) -> Bsdf {
-        let table = (m.table != NO_TABLE).then(|| {
+        let table = (m.table != NO_TABLE && m.kind == MATERIAL_PLASTIC).then(|| {
             let start = m.table as usize;
             PlasticTable::from_texels(&texels[start..start + TABLE_TEXELS])
         });
@@ -109,6 +112,9 @@ pub fn eval(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, wi: Vec3) -> Vec3 {
         MATERIAL_DIELECTRIC => {
             dielectric::eval(b, outside, to_local(&frame, wo), to_local(&frame, wi))
         }
+        MATERIAL_METALLIC_ROUGHNESS => {
+            metallic_roughness::eval(b, to_local(&frame, wo), to_local(&frame, wi))
+        }
         _ => Vec3::ZERO,
     }
 }
@@ -122,11 +128,15 @@ pub fn pdf(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, wi: Vec3) -> f32 {
         MATERIAL_DIELECTRIC => {
             dielectric::pdf(b, outside, to_local(&frame, wo), to_local(&frame, wi))
         }
+        MATERIAL_METALLIC_ROUGHNESS => {
+            metallic_roughness::pdf(b, to_local(&frame, wo), to_local(&frame, wi))
+        }
         _ => 0.0,
     }
 }
 
-/// `u` picks the direction within a lobe, `u_lobe` the lobe (plastic, dielectric).
+/// `u` picks the direction within a lobe, `u_lobe` the lobe (plastic, dielectric,
+/// metallic-roughness).
 pub fn sample(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) -> Sample {
     let frame = basis(n);
     let local = to_local(&frame, wo);
@@ -137,6 +147,7 @@ pub fn sample(b: &Bsdf, n: Vec3, outside: bool, wo: Vec3, u: Vec2, u_lobe: f32) 
         MATERIAL_PLASTIC => plastic::sample(b, local, u, u_lobe),
         MATERIAL_DIELECTRIC => dielectric::sample(b, outside, local, u, u_lobe),
         MATERIAL_THIN_DIELECTRIC => thin_dielectric::sample(b, local, u_lobe),
+        MATERIAL_METALLIC_ROUGHNESS => metallic_roughness::sample(b, local, u, u_lobe),
         _ => return Sample::failed(n),
     };
     s.wi = frame * s.wi;

@@ -52,6 +52,8 @@ pub struct RenderSettings {
     pub max_depth: Option<u32>,
     /// A Mitsuba XML scene's `NAME=VALUE` defines (the command line's `--define`).
     pub defines: Vec<(String, String)>,
+    /// A glTF scene's camera by its name or its node's (the command line's `--camera`).
+    pub camera: Option<String>,
 }
 
 /// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
@@ -87,6 +89,7 @@ impl RenderSettings {
             keep: Keep::Outputs,
             max_depth: None,
             defines: Vec::new(),
+            camera: None,
         }
     }
 }
@@ -568,6 +571,7 @@ pub(crate) fn load_scene_for(settings: &RenderSettings) -> Result<(Scene, SceneG
     let options = SceneOptions {
         defines: settings.defines.clone(),
         max_depth: settings.max_depth,
+        camera: settings.camera.clone(),
     };
     let scene = load_scene_with(&settings.scene, &options)?.scene;
     let gpu_scene = scene.to_gpu();

@@ -351,6 +351,8 @@ pub struct SceneOptions {
     pub defines: Vec<(String, String)>,
     /// Replaces the file's `max_depth` (`--max-depth`).
     pub max_depth: Option<u32>,
+    /// A glTF scene's camera by its name or its node's (`--camera`; default the first).
+    pub camera: Option<String>,
 }
 
 /// A scene and what its file says about the render: a Mitsuba XML scene's film size and
@@ -394,6 +396,31 @@ fn load_scene_unchecked(path: &Path, options: &SceneOptions) -> Result<LoadedSce
             film_size: Some(built.film_size),
             sample_count: Some(built.sample_count),
         });
+    }
+    let only = |what: &str, kind: &str| SceneError::Syntax {
+        at: Location {
+            path: path.to_path_buf(),
+            line: None,
+            item: None,
+        },
+        message: format!("{what} applies to {kind} scenes only"),
+    };
+    if super::gltf::is_gltf(path) {
+        if !options.defines.is_empty() {
+            return Err(only("--define", "Mitsuba XML"));
+        }
+        let mut scene = super::gltf::load_gltf(path, options.camera.as_deref())?;
+        if let Some(d) = options.max_depth {
+            scene.max_depth = d;
+        }
+        return Ok(LoadedScene {
+            scene,
+            film_size: None,
+            sample_count: None,
+        });
+    }
+    if options.camera.is_some() {
+        return Err(only("--camera", "glTF"));
     }
     if !options.defines.is_empty() {
         return Err(SceneError::Syntax {

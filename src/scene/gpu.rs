@@ -162,6 +162,9 @@ pub const MATERIAL_CONDUCTOR: u32 = 2;
 pub const MATERIAL_PLASTIC: u32 = 3;
 pub const MATERIAL_DIELECTRIC: u32 = 4;
 pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
+/// glTF 2.0's metallic-roughness BRDF (src/bsdf/metallic_roughness.rs): kd the base colour,
+/// ks.x the metallic factor, alpha roughness^2.
+pub const MATERIAL_METALLIC_ROUGHNESS: u32 = 6;
 
 /// Mitsuba's `max_depth` of the seed's model: direct light and one bounce.
 pub const DEFAULT_MAX_DEPTH: u32 = 3;

@@ -1,10 +1,12 @@
 //! The `scene.materials` resource's contents: the materials' 128-byte records, then the texels
 //! (16 bytes each) of the tables their models need, each material's `table` the texel index of
-//! its own. Today only rough plastic has one (src/bsdf/plastic_tables.rs: Mitsuba 3's
-//! roughplastic precomputes the same per material); materials with equal (distribution, alpha,
-//! ior) share it.
+//! its own. Rough plastic has one (src/bsdf/plastic_tables.rs: Mitsuba 3's roughplastic
+//! precomputes the same per material), and materials with equal (distribution, alpha, ior)
+//! share it; every metallic-roughness material shares one table of its dielectric layer's
+//! albedo (src/bsdf/metallic_roughness_table.rs), present only when the scene has one.
 
-use super::gpu::{Distribution, MATERIAL_PLASTIC, Material};
+use super::gpu::{Distribution, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
+use crate::bsdf::metallic_roughness_table::SpecularAlbedoTable;
 use crate::bsdf::plastic_tables::PlasticTable;
 use std::collections::{BTreeMap, HashMap};
 
@@ -20,9 +22,9 @@ pub const MATERIAL_KIND_BITS: u32 = 4;
 /// Texels (16 bytes) a material record takes.
 const MATERIAL_TEXELS: usize = size_of::<Material>() / 16;
 
-/// Whether `m`'s model reads a table: plastic with a rough coat.
+/// Whether `m`'s model reads a table: plastic with a rough coat, metallic-roughness.
 pub fn needs_table(m: &Material) -> bool {
-    m.kind == MATERIAL_PLASTIC && m.alpha > 0.0
+    (m.kind == MATERIAL_PLASTIC && m.alpha > 0.0) || m.kind == MATERIAL_METALLIC_ROUGHNESS
 }
 
 /// The materials with `table` set, and the view's texels: the records' then the tables'.
@@ -40,10 +42,19 @@ pub fn materials_texels_with_backs(
     let mut texels: Vec<[f32; 4]> = Vec::new();
     let mut tables: Vec<[f32; 4]> = Vec::new();
     let mut shared: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let mut albedo_table: Option<u32> = None;
     let start = materials.len() * MATERIAL_TEXELS;
     for m in &mut out {
         m.table = NO_TABLE;
         if !needs_table(m) {
+            continue;
+        }
+        if m.kind == MATERIAL_METALLIC_ROUGHNESS {
+            m.table = *albedo_table.get_or_insert_with(|| {
+                let index = (start + tables.len()) as u32;
+                tables.extend(SpecularAlbedoTable::shared().texels());
+                index
+            });
             continue;
         }
         m.table = *shared

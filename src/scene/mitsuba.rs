@@ -13,8 +13,8 @@ use super::file::{MAX_MAX_DEPTH, Scene};
 use super::filter::PixelFilter;
 use super::gpu::{
     Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
-    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
-    SURFACE_MAP_BUMP,
+    MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
+    Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
 use super::mesh::MeshTriangle;
 use super::texture::Texture;
@@ -531,6 +531,13 @@ pub fn bsdf_xml(scene: &Scene, index: u32) -> Result<String, String> {
         MATERIAL_PHONG => {
             return Err(format!(
                 "material '{name}' is Blinn-Phong, which Mitsuba 3 has no plugin for"
+            ));
+        }
+        MATERIAL_METALLIC_ROUGHNESS => {
+            return Err(format!(
+                "material '{name}' is glTF's metallic-roughness model, which no Mitsuba 3 plugin \
+                 reproduces (its principled BSDF adds specular tint, sheen and a different \
+                 Fresnel mix)"
             ));
         }
         other => return Err(format!("material '{name}' has unknown kind {other}")),

@@ -13,6 +13,7 @@ pub mod environment_image;
 pub mod error;
 pub mod file;
 pub mod filter;
+pub mod gltf;
 pub mod gpu;
 pub mod hull;
 pub mod intersect;
@@ -38,9 +39,10 @@ pub use file::{
 pub use filter::PixelFilter;
 pub use gpu::{
     BvhNode, Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, Frame, GpuBvhGrid, GpuCamera,
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC,
-    MATERIAL_THIN_DIELECTRIC, Material, NO_LIGHT, NO_TEXTURE, PackedBvhNode, SHADING_HAS_NORMALS,
-    SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle, TriangleShading,
+    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_METALLIC_ROUGHNESS,
+    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_LIGHT, NO_TEXTURE,
+    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle,
+    TriangleShading,
 };
 pub use intersect::{Hit, Ray};
 pub use material_tables::{NO_TABLE, materials_bytes, materials_bytes_with_backs};

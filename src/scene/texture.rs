@@ -80,7 +80,13 @@ impl Texture {
     /// The error is the decoder's or the file system's message, for the caller to place.
     pub fn load(path: &Path, encoding: Encoding) -> Result<Texture, String> {
         let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-        let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
+        Texture::decode(&bytes, path, encoding)
+    }
+
+    /// Decodes an image file's bytes (PNG, JPEG, EXR, HDR: by their content) as [`Texture::load`]
+    /// does; `path` names where they came from.
+    pub fn decode(bytes: &[u8], path: &Path, encoding: Encoding) -> Result<Texture, String> {
+        let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
         let integer = !matches!(
             image.color(),
             image::ColorType::Rgb32F | image::ColorType::Rgba32F

@@ -14,7 +14,8 @@ use passgraph::bsdf::plastic_tables::PlasticTable;
 use passgraph::bsdf::{Bsdf, Sample, pdf};
 use passgraph::scene::{
     Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
-    MATERIAL_LAMBERT, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
+    MATERIAL_LAMBERT, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC,
+    MATERIAL_THIN_DIELECTRIC,
 };
 
 // The seeded random source is the shared test one (tests/common/geometry.rs).
@@ -247,6 +248,26 @@ pub fn materials(white: bool) -> Vec<(String, Bsdf, bool)> {
             tf,
         );
         out.push((format!("thin dielectric ior {ior}"), b, true));
+    }
+    // glTF's metallic-roughness (ks.x = metallic): the dielectric, half metal and the metal,
+    // smooth (alpha 0: a delta mirror over the base) and at each roughness.
+    for metallic in [0.0, 0.5, 1.0] {
+        for alpha in [0.0, ROUGHNESS[0], ROUGHNESS[1], ROUGHNESS[2]] {
+            let b = bsdf(
+                MATERIAL_METALLIC_ROUGHNESS,
+                kd,
+                Vec3::new(metallic, 0.0, 0.0),
+                0.0,
+                alpha,
+                1.5,
+                Vec3::ZERO,
+            );
+            out.push((
+                format!("metallic-roughness metallic {metallic} alpha {alpha}"),
+                b,
+                true,
+            ));
+        }
     }
     out
 }
@@ -522,7 +543,10 @@ pub fn rounding_tolerance(case: &Case, wi: Vec3) -> f32 {
         return 2e-5 + grazing + b.ns * 8.0 * f32::EPSILON;
     }
     let rough_plastic = b.kind == MATERIAL_PLASTIC && b.table.is_some();
-    if !(b.kind == MATERIAL_CONDUCTOR || b.kind == MATERIAL_DIELECTRIC || rough_plastic)
+    if !(b.kind == MATERIAL_CONDUCTOR
+        || b.kind == MATERIAL_DIELECTRIC
+        || b.kind == MATERIAL_METALLIC_ROUGHNESS
+        || rough_plastic)
         || b.alpha == 0.0
     {
         return 2e-5 + grazing;

@@ -1,6 +1,7 @@
 //! Test support, one module for every test: the repository's root, a scratch copy of the
 //! fixtures that a test may edit without touching others, sessions and images (`render`),
-//! statistics over seeds (`stats`), meshes and scene files (`geometry`), Mitsuba's render test
+//! statistics over seeds (`stats`), meshes and scene files (`geometry`), glTF files (`gltf`),
+//! Mitsuba's render test
 //! against the conformance references (`conformance`), and
 //! `shaders/lib/bvh.wgsl` run on the GPU (`bvh_gpu`). Each test uses part of it.
 #![allow(dead_code, clippy::result_large_err)]
@@ -8,6 +9,7 @@
 pub mod bvh_gpu;
 pub mod conformance;
 pub mod geometry;
+pub mod gltf;
 pub mod reference;
 pub mod render;
 pub mod stats;
