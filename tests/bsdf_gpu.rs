@@ -13,7 +13,7 @@ use passgraph::bsdf::{Sample, eval, is_delta, pdf, sample};
 use passgraph::gpu::texels::create_texel_view;
 use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::material_tables::materials_texels;
-use passgraph::scene::{MATERIAL_PLASTIC, Material};
+use passgraph::scene::{MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
 
 /// The materials view the probe binds, laid out by scene loading's own code from the cases'
 /// materials, and each case's table index in it (NO_TABLE for models without one).
@@ -35,9 +35,11 @@ fn materials(cases: &[Case]) -> Materials {
         .collect();
     let (ms, texels) = materials_texels(&ms);
     for (m, c) in ms.iter().zip(cases) {
+        // Rough plastic's own table, or the metallic-roughness model's shared albedo table.
         assert_eq!(
             m.table != passgraph::scene::NO_TABLE,
-            c.bsdf.table.is_some() && c.bsdf.kind == MATERIAL_PLASTIC,
+            (c.bsdf.table.is_some() && c.bsdf.kind == MATERIAL_PLASTIC)
+                || c.bsdf.kind == MATERIAL_METALLIC_ROUGHNESS,
             "{}: scene loading and the twin disagree on the table",
             c.name
         );
