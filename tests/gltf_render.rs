@@ -29,7 +29,7 @@ fn plane(dir: &Path, material: serde_json::Value) -> PathBuf {
     let mesh = g.quad(10.0, Some(m));
     g.root(json!({"mesh": mesh}));
     let cam = g.camera(
-        json!({"type": "perspective", "perspective": {"yfov": 1.0472,
+        json!({"type": "perspective", "perspective": {"yfov": std::f32::consts::FRAC_PI_3,
         "znear": 0.1}}),
     );
     let s = std::f32::consts::FRAC_1_SQRT_2;
