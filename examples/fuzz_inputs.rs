@@ -2,7 +2,9 @@
 //! (which extend and include each other), graph tests, pass files, shaders and their includes,
 //! scenes (RON, and Mitsuba XML through its loader), OBJ/MTL and PLY meshes (ASCII and binary),
 //! camera paths and viewer scripts; a textured scene (PBR, glass and cut-out MTL keys, PNG
-//! maps, vt/vn, max_depth). Each case mutates one file of a fresh scratch copy, then
+//! maps, vt/vn, max_depth); glTF 2.0 (the shipped `.glb`, and a `.gltf` with its `.bin` and
+//! PNGs beside it using every extension the loader reads, also as a RON scene's mesh under an
+//! environment). Each case mutates one file of a fresh scratch copy, then
 //! runs what `check` and the loaders run (no GPU): load and compile the graph, check the render
 //! contract, print the plan and dot; load the scene and build its BVH and GPU layout; parse the
 //! camera path and the script. Errors are the expected outcome; a panic, a crash (signal) or a
@@ -16,9 +18,17 @@
 //! (it stops after the case in progress), `--cases` bounds the count. A crash leaves its case in
 //! the scratch folder printed at the start.
 
+// The tests' writer; `requires` is for their bad-input cases.
+#[allow(dead_code)]
+#[path = "../tests/common/gltf.rs"]
+mod gltf_writer;
+
+use glam::{Vec2, Vec3};
+use gltf_writer::GltfWriter;
 use passgraph::graph::load::load_graph;
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::session::check_render_contract;
+use serde_json::json;
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -276,6 +286,78 @@ fn textured_scene(extra: &Path, camera: &str) {
     .unwrap();
 }
 
+/// A `.gltf` + `.bin` + PNG maps with every part of glTF the loader reads: TRS, matrix and
+/// child nodes, indexed and plain triangles, normals and UVs, the metallic-roughness material
+/// with all its textures (one transformed), MASK and BLEND, transmission with an ior, emissive
+/// strength, a camera and the three punctual lights; and a RON scene using it as its mesh.
+fn gltf_scene(extra: &Path) {
+    std::fs::write(extra.join("maps.png"), png()).unwrap();
+    let mut g = GltfWriter::new();
+    g.json["images"] = json!([{"uri": "maps.png"}]);
+    g.json["textures"] = json!([{"source": 0}]);
+    g.uses("KHR_texture_transform");
+    g.uses("KHR_materials_emissive_strength");
+    g.uses("KHR_materials_transmission");
+    g.uses("KHR_materials_ior");
+    let paint = g.material(json!({
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.8, 0.3, 0.2, 1.0],
+            "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform":
+                {"offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2]}}},
+            "metallicFactor": 0.5, "roughnessFactor": 0.4,
+            "metallicRoughnessTexture": {"index": 0}},
+        "normalTexture": {"index": 0, "scale": 0.7},
+        "emissiveFactor": [0.1, 0.1, 0.0],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 3.0}},
+        "alphaMode": "MASK", "alphaCutoff": 0.3, "doubleSided": true}));
+    let glass = g.material(json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.1},
+        "alphaMode": "BLEND",
+        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                       "KHR_materials_ior": {"ior": 1.33}}}));
+    let floor = g.quad(2.0, Some(paint));
+    let tri = g.mesh(
+        &[Vec3::ZERO, Vec3::X, Vec3::Y],
+        None,
+        Some(&[Vec2::ZERO, Vec2::X, Vec2::Y]),
+        None,
+        Some(glass),
+    );
+    let camera = g.camera(json!({"type": "perspective", "name": "Cam",
+        "perspective": {"yfov": 0.8, "znear": 0.01}}));
+    let point = g.light(json!({"type": "point", "color": [1, 0.9, 0.8], "intensity": 500}));
+    let spot = g.light(json!({"type": "spot", "intensity": 800,
+        "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}));
+    let sun = g.light(json!({"type": "directional", "intensity": 2}));
+    let child = g.node(json!({"mesh": tri, "scale": [1, -1, 1]}));
+    g.root(
+        json!({"mesh": floor, "translation": [0, -1, 0], "rotation": [0, 0.3826834, 0, 0.9238795]}),
+    );
+    g.root(json!({"children": [child],
+        "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.2, 0.1, 0, 1]}));
+    g.root(json!({"camera": camera, "translation": [0, 0.5, 4]}));
+    for (light, at) in [
+        (point, [0.0, 2.0, 0.0]),
+        (spot, [1.0, 2.0, 1.0]),
+        (sun, [0.0, 0.0, 0.0]),
+    ] {
+        g.root(
+            json!({"translation": at, "rotation": [-0.7071068, 0, 0, 0.7071068],
+            "extensions": {"KHR_lights_punctual": {"light": light}}}),
+        );
+    }
+    g.write_gltf(extra, "maps");
+    // The same file as one binary (images stay external: the GLB's chunks are what differs).
+    g.write_glb(extra, "maps-binary");
+    std::fs::write(
+        extra.join("maps.ron"),
+        "Scene(mesh: \"maps.gltf\", max_depth: 5,\n    \
+         environment: Environment(color: (0.2, 0.3, 0.4)),\n    \
+         lights: [Point(position: (0, 3, 0), intensity: (10, 10, 10))])\n",
+    )
+    .unwrap();
+}
+
 /// The scratch project: graphs, passes, shaders and scenes as shipped, plus inputs made here.
 fn lay_out(root: &Path, dir: &Path) {
     for sub in ["graphs", "passes", "shaders", "scenes", "tests/graphs"] {
@@ -303,6 +385,7 @@ fn lay_out(root: &Path, dir: &Path) {
         .unwrap();
     }
     textured_scene(&extra, camera);
+    gltf_scene(&extra);
     std::fs::write(
         extra.join("path.ron"),
         "CameraPath([\n    (frames: 4),\n    (frames: 2, eye: (1, 2, 3), fov_y: 30),\n])\n",
@@ -443,9 +526,11 @@ fn main() {
     let pristine = base.path().join("pristine");
     lay_out(root, &pristine);
     // Mutations of an input that does not load would test only its first error.
-    if let Err(e) = passgraph::scene::load_scene(&pristine.join("scenes/extra/tex.ron")) {
-        eprintln!("fuzz_inputs: the textured scene does not load: {e}");
-        std::process::exit(1);
+    for scene in ["tex.ron", "maps.gltf", "maps.ron", "maps-binary.glb"] {
+        if let Err(e) = passgraph::scene::load_scene(&pristine.join("scenes/extra").join(scene)) {
+            eprintln!("fuzz_inputs: the scene {scene} does not load: {e}");
+            std::process::exit(1);
+        }
     }
     let mut inputs = Vec::new();
     files(&pristine, &mut inputs);
@@ -543,10 +628,19 @@ fn main() {
             || name.ends_with("ply.ron")
             || name.ends_with("binary.ron")
             || name.ends_with("tex.ron")
+            || name.ends_with("maps.ron")
+            || name.ends_with(".glb")
         {
             case_dir.join(&rel)
         } else if name.contains("/tex.") {
             scene_dir.join("tex.ron")
+        } else if name.contains("/maps.") {
+            // The .gltf, its .bin or its PNG: through the RON scene on odd cases.
+            scene_dir.join(if done % 2 == 0 {
+                "maps.gltf"
+            } else {
+                "maps.ron"
+            })
         } else if name.ends_with("binary.ply") {
             scene_dir.join("binary.ron")
         } else if name.ends_with(".ply") {

@@ -449,3 +449,60 @@ fn a_node_cycle_is_refused() {
     let e = error_of(&g.write_gltf(dir.path(), "cycle"));
     assert_mentions(&e, &["node 0"]);
 }
+
+#[test]
+fn a_ron_scene_takes_a_gltf_mesh_with_its_lights_and_camera_and_adds_an_environment() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = square_scene();
+    let alone = load(&g.write_glb(dir.path(), "square")).unwrap().scene;
+    let ron = dir.path().join("lit.ron");
+    std::fs::write(
+        &ron,
+        "Scene(mesh: \"square.glb\", max_depth: 5,\n\
+         lights: [Directional(direction: (0, -1, 0), irradiance: (1, 1, 1))],\n\
+         environment: Environment(color: (0.5, 0.5, 0.5)))\n",
+    )
+    .unwrap();
+    let scene = load(&ron).unwrap().scene;
+    assert_eq!(scene.mesh.triangles, alone.mesh.triangles);
+    assert_eq!(scene.mesh.materials, alone.mesh.materials);
+    assert_eq!(
+        scene.camera, alone.camera,
+        "the glTF's camera where the file names none"
+    );
+    assert_eq!(scene.max_depth, 5);
+    // The file's lights first, then the glTF's.
+    assert_eq!(scene.emitters.lights.len(), 2);
+    assert!(matches!(
+        scene.emitters.lights[0],
+        AnalyticLight::Directional { .. }
+    ));
+    assert_eq!(scene.emitters.lights[1], alone.emitters.lights[0]);
+    assert!(scene.emitters.environment.is_some());
+
+    // A camera in the file replaces the glTF's.
+    std::fs::write(
+        &ron,
+        "Scene(mesh: \"square.gltf\",\n\
+         camera: Camera(eye: (0, 5, 5), target: (0, 0, 0), up: (0, 1, 0), fov_y: 30))\n",
+    )
+    .unwrap();
+    g.write_gltf(dir.path(), "square");
+    let scene = load(&ron).unwrap().scene;
+    assert_ne!(scene.camera, alone.camera);
+    assert_eq!(scene.camera.eye(), Vec3::new(0.0, 5.0, 5.0));
+}
+
+#[test]
+fn a_ron_scene_with_an_obj_mesh_still_needs_its_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("t.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let ron = dir.path().join("t.ron");
+    std::fs::write(&ron, "Scene(mesh: \"t.obj\")\n").unwrap();
+    let e = error_of(&ron);
+    assert_mentions(&e, &["camera", "glTF"]);
+}

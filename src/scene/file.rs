@@ -19,6 +19,9 @@
 //! )
 //! ```
 //!
+//! The mesh may be a glTF file (`.gltf`, `.glb`): its materials and punctual lights come with
+//! it (the lights after this file's), and its first camera when this file names none.
+//!
 //! The camera is `Camera(eye, target, up, fov_y: F)` (the vertical field of view), or
 //! `Camera(eye, target, up, fov: F, fov_axis: X | Y | Diagonal | Smaller | Larger)` (Mitsuba's
 //! `fov` / `fov_axis`; the axis defaults to X as Mitsuba's), either with
@@ -70,7 +73,9 @@ pub const DEFAULT_SCENE: &str = "scenes/cornell/scene.ron";
 #[serde(rename = "Scene", deny_unknown_fields)]
 struct SceneFile {
     mesh: PathBuf,
-    camera: CameraFile,
+    /// Optional only for a glTF mesh, whose first camera it then takes.
+    #[serde(default)]
+    camera: Option<CameraFile>,
     #[serde(default = "default_max_depth")]
     max_depth: i64,
     #[serde(default)]
@@ -469,18 +474,24 @@ fn load_ron_scene(path: &Path) -> Result<Scene, SceneError> {
         col: e.span.start.col,
         message: e.code.to_string(),
     })?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mesh_path = dir.join(&file.mesh);
+    let gltf = super::gltf::is_gltf(&mesh_path);
     // Checked before the mesh: it is cheap, and its error is about this file.
     let camera = file
         .camera
-        .camera()
-        .map_err(|(source, field)| SceneError::Camera {
-            at: Location {
-                path: path.to_path_buf(),
-                line: field_line(&text, field),
-                item: None,
-            },
-            source,
-        })?;
+        .as_ref()
+        .map(|c| {
+            c.camera().map_err(|(source, field)| SceneError::Camera {
+                at: Location {
+                    path: path.to_path_buf(),
+                    line: field_line(&text, field),
+                    item: None,
+                },
+                source,
+            })
+        })
+        .transpose()?;
     let filter = file
         .filter
         .filter()
@@ -514,13 +525,12 @@ fn load_ron_scene(path: &Path) -> Result<Scene, SceneError> {
             },
             message,
         })?;
-    let dir = path.parent().unwrap_or(Path::new(""));
     let at = |field: &str| Location {
         path: path.to_path_buf(),
         line: field_line(&text, field),
         item: None,
     };
-    let lights = file
+    let mut lights = file
         .lights
         .iter()
         .enumerate()
@@ -544,7 +554,22 @@ fn load_ron_scene(path: &Path) -> Result<Scene, SceneError> {
             })
         })
         .transpose()?;
-    let mesh = load_mesh(&dir.join(&file.mesh))?;
+    // A glTF mesh brings its materials and its lights (KHR_lights_punctual), and its camera
+    // where this file names none; the environment, depths and filter are this file's.
+    let (mesh, camera) = match (gltf, camera) {
+        (true, camera) => {
+            let scene = super::gltf::load_gltf(&mesh_path, None)?;
+            lights.extend(scene.emitters.lights);
+            (scene.mesh, camera.unwrap_or(scene.camera))
+        }
+        (false, Some(camera)) => (load_mesh(&mesh_path)?, camera),
+        (false, None) => {
+            return Err(SceneError::Syntax {
+                at: at("mesh"),
+                message: "missing field `camera` (only a glTF mesh brings its own)".into(),
+            });
+        }
+    };
     Ok(Scene {
         path: path.to_path_buf(),
         mesh,
