@@ -336,15 +336,15 @@ fn gltf_scene(extra: &Path) {
     g.root(json!({"children": [child],
         "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.2, 0.1, 0, 1]}));
     g.root(json!({"camera": camera, "translation": [0, 0.5, 4]}));
+    // Pointing down: -z turned onto -y.
+    let s = std::f32::consts::FRAC_1_SQRT_2;
     for (light, at) in [
         (point, [0.0, 2.0, 0.0]),
         (spot, [1.0, 2.0, 1.0]),
         (sun, [0.0, 0.0, 0.0]),
     ] {
-        g.root(
-            json!({"translation": at, "rotation": [-0.7071068, 0, 0, 0.7071068],
-            "extensions": {"KHR_lights_punctual": {"light": light}}}),
-        );
+        g.root(json!({"translation": at, "rotation": [-s, 0.0, 0.0, s],
+            "extensions": {"KHR_lights_punctual": {"light": light}}}));
     }
     g.write_gltf(extra, "maps");
     // The same file as one binary (images stay external: the GLB's chunks are what differs).
@@ -636,7 +636,7 @@ fn main() {
             scene_dir.join("tex.ron")
         } else if name.contains("/maps.") {
             // The .gltf, its .bin or its PNG: through the RON scene on odd cases.
-            scene_dir.join(if done % 2 == 0 {
+            scene_dir.join(if done.is_multiple_of(2) {
                 "maps.gltf"
             } else {
                 "maps.ron"
