@@ -685,6 +685,13 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         + scene.shading_bytes().len()
         + scene.textures_bytes().len();
     eprintln!("adapter: {}", passgraph::gpu::context::describe(info));
+    // The reuse pass groups lanes of a subgroup (shaders/path_reuse.wgsl): its width matters.
+    if info.subgroup_max_size > 0 {
+        eprintln!(
+            "subgroups: {}..{} lanes",
+            info.subgroup_min_size, info.subgroup_max_size
+        );
+    }
     eprintln!(
         "scene: {} triangles ({} degenerate), {} lights; BVH {} nodes, depth {}, built in {:.1} ms; {} bytes on the GPU ({:.1} per triangle)",
         bvh.triangle_count,
