@@ -10,9 +10,11 @@
 //!   rare high-energy samples (fireflies) and one render's relMSE says little about its
 //!   expectation; the median over renders falls below it.
 //!
-//! Where the residual is, by 8x8 blocks of the image (its largest five).
+//! Where the residual is, by 8x8 blocks of the image (its largest five). A reference given as
+//! two independent halves (`REF_A.exr,REF_B.exr`) is their mean, and its own noise,
+//! w (R_a - R_b)^2 / 4, is measured and taken from the residual: what is left is bias^2.
 //!
-//! `cargo run --release --example error_split -- REF.exr A.exr B.exr`
+//! `cargo run --release --example error_split -- REF.exr[,REF_B.exr] A.exr B.exr`
 
 use passgraph::render::image::RgbImage;
 use std::path::Path;
@@ -24,14 +26,41 @@ fn read(path: &str) -> RgbImage {
     })
 }
 
+/// The mean of one or two images of one size (checked by the caller).
+fn mean_of(images: &[RgbImage]) -> RgbImage {
+    let mut mean = images[0].clone();
+    if let [_, b] = images {
+        if b.pixels.len() == mean.pixels.len() {
+            for (p, q) in mean.pixels.iter_mut().zip(&b.pixels) {
+                for k in 0..3 {
+                    p[k] = 0.5 * (p[k] + q[k]);
+                }
+            }
+        }
+    }
+    mean
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [reference, a, b] = &args[..] else {
-        eprintln!("usage: error_split REF.exr A.exr B.exr");
+        eprintln!("usage: error_split REF.exr[,REF_B.exr] A.exr B.exr");
         std::process::exit(2)
     };
-    let (r, a_img, b_img) = (read(reference), read(a), read(b));
-    for (name, image) in [(a, &a_img), (b, &b_img)] {
+    let halves: Vec<RgbImage> = reference.split(',').map(read).collect();
+    if halves.len() > 2 {
+        eprintln!(
+            "error: a reference is one EXR or two halves, not {}",
+            halves.len()
+        );
+        std::process::exit(2);
+    }
+    let r = mean_of(&halves);
+    let (a_img, b_img) = (read(a), read(b));
+    for (name, image) in [(a, &a_img), (b, &b_img)]
+        .into_iter()
+        .chain(halves.iter().map(|h| (reference, h)))
+    {
         if (image.width, image.height) != (r.width, r.height) {
             eprintln!(
                 "error: {name} is {}x{}, the reference {}x{}",
@@ -72,6 +101,20 @@ fn main() {
     );
     println!("variance (relMSE of one render from noise) {variance:.4e}");
     println!("residual (bias^2 + reference noise) {residual:.4e}");
+    if let [ra, rb] = &halves[..] {
+        let mut noise = 0.0f64;
+        for ((y, p), q) in r.pixels.iter().zip(&ra.pixels).zip(&rb.pixels) {
+            for k in 0..3 {
+                let (y, d) = (f64::from(y[k]), f64::from(p[k]) - f64::from(q[k]));
+                noise += d * d / 4.0 / (y * y + 0.01);
+            }
+        }
+        noise /= n;
+        println!(
+            "reference noise (its halves) {noise:.4e}; bias^2 = residual - it: {:.4e}",
+            residual - noise
+        );
+    }
     println!("tail: the largest 0.1 % of terms carry {tail:.2} of the variance");
     let (w, h) = (r.width as usize, r.height as usize);
     let mut blocks = Vec::new();
