@@ -4,6 +4,7 @@
 use super::bvh_grid::{BvhGrid, MAX_ENCODED_LEAF};
 use super::gpu::BvhNode;
 use glam::Vec3;
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// A node with more triangles than this is always split (unless the depth limit is reached).
@@ -122,21 +123,31 @@ impl Bvh {
     /// this one rather than the SAH's; below it, each side is an SAH tree.
     pub fn build_with_occluders(triangles: &[[Vec3; 3]], occluder: &[bool]) -> Bvh {
         let start = Instant::now();
+        // Each triangle's record in parallel (exact: no sums), the degenerate ones apart.
+        let records: Vec<Option<Item>> = triangles
+            .par_iter()
+            .enumerate()
+            .map(|(i, v)| {
+                if is_degenerate(v) {
+                    return None;
+                }
+                let lo = v[0].min(v[1]).min(v[2]);
+                let hi = v[0].max(v[1]).max(v[2]);
+                Some(Item {
+                    lo,
+                    hi,
+                    centroid: (lo + hi) * 0.5,
+                    index: i as u32,
+                })
+            })
+            .collect();
         let mut items = Vec::with_capacity(triangles.len());
         let mut degenerate = Vec::new();
-        for (i, v) in triangles.iter().enumerate() {
-            if is_degenerate(v) {
-                degenerate.push(i as u32);
-                continue;
+        for (i, record) in records.into_iter().enumerate() {
+            match record {
+                Some(item) => items.push(item),
+                None => degenerate.push(i as u32),
             }
-            let lo = v[0].min(v[1]).min(v[2]);
-            let hi = v[0].max(v[1]).max(v[2]);
-            items.push(Item {
-                lo,
-                hi,
-                centroid: (lo + hi) * 0.5,
-                index: i as u32,
-            });
         }
         let others = partition_in_place(&mut items, |t| !occluder[t.index as usize]);
 
@@ -159,7 +170,7 @@ impl Bvh {
             let root = 1 + left.nodes.len() as u32;
             (Subtree::join(&bounds, left, right), root)
         };
-        let mut order: Vec<u32> = items.iter().map(|t| t.index).collect();
+        let mut order: Vec<u32> = items.par_iter().map(|t| t.index).collect();
         order.extend(degenerate);
 
         // Snapping grows every box, so children stay inside their parents.
@@ -167,10 +178,10 @@ impl Bvh {
         let grid = nodes.first().map_or_else(BvhGrid::default, |root| {
             BvhGrid::covering(root.lo.into(), root.hi.into())
         });
-        for node in &mut nodes {
+        nodes.par_iter_mut().for_each(|node| {
             let (lo, hi) = grid.snap(node.lo.into(), node.hi.into());
             (node.lo, node.hi) = (lo.into(), hi.into());
-        }
+        });
         let stats = BvhStats {
             build_time: start.elapsed(),
             node_count: nodes.len(),
@@ -509,8 +520,33 @@ fn best_split_small(items: &[Item], binning: &Binning) -> Option<(Split, Bounds,
     best
 }
 
-/// The triangles of `items` binned along each axis with extent, in one pass over them.
+/// Nodes over this many triangles bin them in parallel chunks of this size, merged after (the
+/// same bins: boxes merge by min and max, counts by sum). The top nodes' binning otherwise
+/// runs on one thread while the other waits.
+const PARALLEL_BIN_CHUNK: usize = 64 * 1024;
+
+/// The triangles of `items` binned along each axis with extent.
 fn bin(items: &[Item], binning: &Binning) -> [[Bin; BINS]; 3] {
+    if items.len() <= PARALLEL_BIN_CHUNK {
+        return bin_serial(items, binning);
+    }
+    items
+        .par_chunks(PARALLEL_BIN_CHUNK)
+        .map(|chunk| bin_serial(chunk, binning))
+        .reduce(
+            || [[Bin::EMPTY; BINS]; 3],
+            |mut a, b| {
+                for (a, b) in a.iter_mut().flatten().zip(b.iter().flatten()) {
+                    a.bounds.grow(b.bounds.lo, b.bounds.hi);
+                    a.count += b.count;
+                }
+                a
+            },
+        )
+}
+
+/// [`bin`] on one thread, in one pass over the triangles.
+fn bin_serial(items: &[Item], binning: &Binning) -> [[Bin; BINS]; 3] {
     let mut bins = [[Bin::EMPTY; BINS]; 3];
     for t in items {
         for (axis, bins) in bins.iter_mut().enumerate() {
@@ -659,6 +695,31 @@ mod tests {
                 "case {case}: {n} triangles"
             );
         }
+    }
+
+    /// A big node's bins, merged from parallel chunks, are the one pass's bins exactly: the
+    /// tree must not depend on where the parallel binning takes over.
+    #[test]
+    fn parallel_binning_equals_the_serial_pass() {
+        let mut rng = Lcg(13);
+        let items = items_of(&random_triangles(
+            &mut rng,
+            3 * PARALLEL_BIN_CHUNK + 17,
+            20.0,
+        ));
+        let (_, centroids) = bounds_of(&items);
+        let binning = Binning::new(&centroids);
+        let key = |bins: [[Bin; BINS]; 3]| {
+            bins.iter()
+                .flatten()
+                .map(|b| (b.count, b.bounds.lo.to_array(), b.bounds.hi.to_array()))
+                .map(|(c, lo, hi)| (c, lo.map(f32::to_bits), hi.map(f32::to_bits)))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            key(bin(&items, &binning)),
+            key(bin_serial(&items, &binning))
+        );
     }
 
     /// Built on one thread or on several, the BVH is the same: rayon only changes who builds
