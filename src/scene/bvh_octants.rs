@@ -9,6 +9,7 @@
 
 use super::gpu::BvhNode;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// How many copies: one per octant of directions.
 pub const OCTANTS: usize = 8;
@@ -24,29 +25,33 @@ pub fn octant(dir: Vec3) -> usize {
 /// every copy: the occluders' subtree (`Bvh::build_with_occluders`) must stay last, at the
 /// same `occluder_root`, for shadow rays to start there.
 pub fn octant_copies(nodes: &[BvhNode], keep_root: bool) -> Vec<BvhNode> {
-    let mut out = Vec::with_capacity(OCTANTS * nodes.len());
-    for o in 0..OCTANTS {
-        let start = out.len();
-        if !nodes.is_empty() {
-            rethread(nodes, 0, o, keep_root, start, &mut out);
-        }
+    // Every copy has the tree's node count and links local to it: the copies fill disjoint
+    // slices of one buffer, in parallel.
+    let mut out = vec![BvhNode::default(); OCTANTS * nodes.len()];
+    if !nodes.is_empty() {
+        out.par_chunks_mut(nodes.len())
+            .enumerate()
+            .for_each(|(o, copy)| {
+                rethread(nodes, 0, o, keep_root, copy, &mut 0);
+            });
     }
     out
 }
 
-/// Appends the subtree at `i` as octant `o` orders it, its miss links counted from the copy's
-/// first node (`start`).
+/// Writes the subtree at `i` as octant `o` orders it into `copy` from `*len` on (advancing it),
+/// its miss links counted from the copy's first node.
 fn rethread(
     nodes: &[BvhNode],
     i: usize,
     o: usize,
     keep_order: bool,
-    start: usize,
-    out: &mut Vec<BvhNode>,
+    copy: &mut [BvhNode],
+    len: &mut usize,
 ) {
     let node = nodes[i];
     if node.count > 0 {
-        out.push(node);
+        copy[*len] = node;
+        *len += 1;
         return;
     }
     let left = i + 1;
@@ -56,11 +61,12 @@ fn rethread(
     } else {
         (right, left)
     };
-    let index = out.len();
-    out.push(node);
-    rethread(nodes, first, o, false, start, out);
-    rethread(nodes, second, o, false, start, out);
-    out[index].a = (out.len() - start) as u32;
+    let index = *len;
+    copy[index] = node;
+    *len += 1;
+    rethread(nodes, first, o, false, copy, len);
+    rethread(nodes, second, o, false, copy, len);
+    copy[index].a = *len as u32;
 }
 
 /// The index after the subtree at `i`: a leaf's successor, an interior node's miss link.
