@@ -419,13 +419,7 @@ fn read_primitive(
                 .ok_or_else(|| format!("{what}: NORMAL cannot be read"))?
                 .collect();
             check_finite(&n, &acc, &role)?;
-            if n.len() != positions.len() {
-                return Err(format!(
-                    "{what}: NORMAL has {} elements, POSITION {}",
-                    n.len(),
-                    positions.len()
-                ));
-            }
+            same_count(what, "NORMAL", n.len(), positions.len())?;
             Some(n)
         }
         None => None,
@@ -445,13 +439,7 @@ fn read_primitive(
                 .into_f32()
                 .collect();
             check_finite(&uv, &acc, &role)?;
-            if uv.len() != positions.len() {
-                return Err(format!(
-                    "{what}: TEXCOORD_0 has {} elements, POSITION {}",
-                    uv.len(),
-                    positions.len()
-                ));
-            }
+            same_count(what, "TEXCOORD_0", uv.len(), positions.len())?;
             Some(uv)
         }
         None => None,
@@ -588,4 +576,14 @@ fn default_camera(mesh: &Mesh) -> Result<CameraDesc, String> {
         },
     )
     .map_err(|e| format!("the default camera: {e}"))
+}
+
+/// A vertex attribute has one element per position.
+fn same_count(what: &str, attribute: &str, count: usize, positions: usize) -> Result<(), String> {
+    if count == positions {
+        return Ok(());
+    }
+    Err(format!(
+        "{what}: {attribute} has {count} elements, POSITION {positions}"
+    ))
 }
