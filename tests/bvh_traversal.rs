@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use passgraph::scene::bvh::{MAX_DEPTH, is_degenerate};
-use passgraph::scene::bvh_octants::OCTANTS;
+use passgraph::scene::bvh_octants::COPIES;
 use passgraph::scene::intersect::{
     PreparedRay, brute_force_any_hit, brute_force_closest_hit, intersect_triangle,
 };
@@ -588,8 +588,8 @@ fn packed_nodes_decode_exactly_to_the_node_boxes() {
             .collect();
         let scene = scene(&soup);
         let bytes = scene.bvh_bytes();
-        assert_eq!(bytes.len(), 32 + 16 * OCTANTS * scene.nodes.len());
-        assert_eq!(scene.octant_nodes.len(), OCTANTS * scene.nodes.len());
+        assert_eq!(bytes.len(), 32 + 16 * COPIES * scene.nodes.len());
+        assert_eq!(scene.octant_nodes.len(), COPIES * scene.nodes.len());
         let grid = scene.grid;
         for node in &scene.octant_nodes {
             let packed = grid.encode(node);

@@ -68,8 +68,8 @@ struct BvhRay {
     far_offset: vec3<f32>,
     near_shift: vec3<u32>,
     far_shift: vec3<u32>,
-    // The first node of the BVH's copy for the direction's octant (src/scene/bvh_octants.rs:
-    // each copy stores the child nearer for that octant first).
+    // The first node of the BVH's copy for the direction (src/scene/bvh_octants.rs: each copy
+    // stores the child nearer for its octant first).
     base: u32,
 }
 
@@ -111,12 +111,25 @@ fn bvh_prepare_ray(origin: vec3<f32>, dir: vec3<f32>) -> BvhRay {
     let near_shift = select(vec3<u32>(0u), vec3<u32>(16u), cell_scale < vec3<f32>(0.0));
     return BvhRay(origin, inv_dir, flat_axes, kx, ky, kz, shear, grid, cell_scale,
                   cell_offset - cell_slack, cell_offset + cell_slack, near_shift,
-                  vec3<u32>(16u) - near_shift, scene_node_count * bvh_octant(dir));
+                  vec3<u32>(16u) - near_shift, scene_node_count * bvh_copy(dir));
 }
 
-// Bit k set when dir[k] is negative, as bvh_octants.rs's octant.
-fn bvh_octant(dir: vec3<f32>) -> u32 {
-    return select(0u, 1u, dir.x < 0.0) | select(0u, 2u, dir.y < 0.0) | select(0u, 4u, dir.z < 0.0);
+// The copy a ray along dir traverses, as bvh_octants.rs's copy_of: the copies are the octants
+// with an even number of negative signs (bit k: dir[k] < 0); another octant takes the copy with
+// the sign of its smallest component (the first of equal ones) flipped.
+fn bvh_copy(dir: vec3<f32>) -> u32 {
+    var o = select(0u, 1u, dir.x < 0.0) | select(0u, 2u, dir.y < 0.0) | select(0u, 4u, dir.z < 0.0);
+    if (countOneBits(o) & 1u) == 1u {
+        let a = abs(dir);
+        var k = 2u;
+        if a.x <= a.y && a.x <= a.z {
+            k = 0u;
+        } else if a.y <= a.z {
+            k = 1u;
+        }
+        o ^= 1u << k;
+    }
+    return o >> 1u;
 }
 
 // 0 at run time, but not a constant the compiler can see (set by bvh_prepare_ray from the

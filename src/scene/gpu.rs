@@ -4,7 +4,7 @@
 
 use super::bvh::{Bvh, BvhStats};
 use super::bvh_grid::BvhGrid;
-use super::bvh_octants::{octant, octant_copies};
+use super::bvh_octants::{copy_of, octant_copies};
 use super::file::Scene;
 use super::hull::hull_faces_with;
 use super::intersect::{self, Hit, Ray};
@@ -490,8 +490,8 @@ pub struct SceneGpu {
     pub light_power: Vec<f32>,
     /// Depth-first threaded BVH; node 0 is the root. Empty only if no triangle has area.
     pub nodes: Vec<BvhNode>,
-    /// `nodes` re-threaded per octant of ray directions (`bvh_octants.rs`): what the GPU and
-    /// the CPU twin traverse, the copy for ray direction d at `octant(d) * nodes.len()`.
+    /// `nodes` re-threaded for four octants of ray directions (`bvh_octants.rs`): what the GPU
+    /// and the CPU twin traverse, the copy for ray direction d at `copy_of(d) * nodes.len()`.
     pub octant_nodes: Vec<BvhNode>,
     /// Where shadow rays start their traversal: the subtree without the scene's hull faces,
     /// which no shadow ray can meet (`hull.rs`). The `scene_occluder_root` override.
@@ -707,10 +707,10 @@ impl SceneGpu {
         intersect::closest_hit(self.nodes_for(ray), &self.triangles, ray, tmin, tmax)
     }
 
-    /// The copy of the BVH a ray traverses: its direction's octant's.
+    /// The copy of the BVH a ray traverses (`bvh_octants::copy_of`).
     pub fn nodes_for(&self, ray: &Ray) -> &[BvhNode] {
         let n = self.nodes.len();
-        let start = octant(ray.dir) * n;
+        let start = copy_of(ray.dir) * n;
         &self.octant_nodes[start..start + n]
     }
 
