@@ -10,12 +10,19 @@
 
 use super::bvh::is_degenerate;
 use glam::Vec3;
+use rayon::prelude::*;
 
-/// Side tests allowed per vertex of the scene, on top of a fixed allowance. A hull face is
-/// tested against every vertex, so a scene made only of hull faces (a fine convex mesh) would
-/// cost triangles x vertices; past this budget the remaining triangles simply stay occluders.
+/// Side tests allowed per vertex of the scene, on top of a fixed allowance, for the triangles
+/// the extreme vertices leave unsettled. A hull face is tested against every vertex, so a scene
+/// made only of hull faces (a fine convex mesh) would cost triangles x vertices; past this
+/// budget the remaining triangles simply stay occluders.
 const TESTS_PER_VERTEX: usize = 8;
 const TESTS_FIXED: usize = 1 << 20;
+/// The unsettled triangles are tested in batches of this many, in their order, each batch in
+/// parallel, while budget is left before it: the answer does not depend on the thread count.
+const BATCH: usize = 64;
+/// The scene's extreme vertices along each axis, both ways.
+const EXTREMES: usize = 6;
 
 /// `result[i]`: triangle i is a hull face (see the module). Degenerate triangles are not
 /// (they are in no BVH leaf anyway), and their vertices do not count as the scene's. The side
@@ -28,48 +35,60 @@ pub fn hull_faces(triangles: &[[Vec3; 3]]) -> Vec<bool> {
 /// As [`hull_faces`], with `points` (point and spot lights, where shadow rays end) counted among
 /// the scene's vertices.
 pub fn hull_faces_with(triangles: &[[Vec3; 3]], points: &[Vec3]) -> Vec<bool> {
-    let usable: Vec<bool> = triangles.iter().map(|t| !is_degenerate(t)).collect();
+    let usable: Vec<bool> = triangles.par_iter().map(|t| !is_degenerate(t)).collect();
     let mut points: Vec<robust::Coord3D<f64>> = triangles
-        .iter()
+        .par_iter()
         .zip(&usable)
         .filter(|&(_, &u)| u)
-        .flat_map(|(t, _)| t.iter().map(|&p| coord(p)))
-        .chain(points.iter().map(|&p| coord(p)))
+        .flat_map_iter(|(t, _)| t.iter().map(|&p| coord(p)))
+        .chain(points.par_iter().map(|&p| coord(p)))
         .collect();
     // The scene's extreme vertices first: most planes through the inside of the scene have one
-    // of them on each side, so most triangles are settled after a few tests.
-    for axis in 0..3 {
-        for sign in [-1.0, 1.0] {
-            let key = |p: &robust::Coord3D<f64>| sign * [p.x, p.y, p.z][axis];
-            if let Some(best) =
-                (0..points.len()).max_by(|&a, &b| key(&points[a]).total_cmp(&key(&points[b])))
-            {
-                let p = points.swap_remove(best);
-                points.insert(0, p);
-            }
-        }
+    // of them on each side, so most triangles are settled by them alone.
+    let extremes = EXTREMES.min(points.len());
+    for rank in 0..extremes {
+        let (axis, sign) = (rank / 2, if rank % 2 == 0 { -1.0 } else { 1.0 });
+        let key = |p: &robust::Coord3D<f64>| sign * [p.x, p.y, p.z][axis];
+        // The first of equal ones, among those not yet moved to the front.
+        let best = (rank..points.len())
+            .into_par_iter()
+            .max_by(|&a, &b| key(&points[a]).total_cmp(&key(&points[b])).then(b.cmp(&a)))
+            .unwrap_or(rank);
+        points.swap(rank, best);
     }
-    let mut budget = TESTS_FIXED + TESTS_PER_VERTEX * points.len();
-    let mut result = vec![false; triangles.len()];
-    for (i, t) in triangles.iter().enumerate() {
-        if !usable[i] {
-            continue;
-        }
+    let (front, rest) = points.split_at(extremes);
+    // Whether some vertex of `of` lies strictly on each side of t's plane (the tests made).
+    let sides = |t: &[Vec3; 3], of: &[robust::Coord3D<f64>]| -> (bool, usize) {
         let [a, b, c] = t.map(coord);
         let (mut above, mut below) = (false, false);
-        for p in &points {
-            if budget == 0 {
-                return result;
-            }
-            budget -= 1;
+        for (k, p) in of.iter().enumerate() {
             let side = robust::orient3d(a, b, c, *p);
             above |= side > 0.0;
             below |= side < 0.0;
             if above && below {
-                break;
+                return (true, k + 1);
             }
         }
-        result[i] = !(above && below);
+        (false, of.len())
+    };
+    let unsettled: Vec<usize> = (0..triangles.len())
+        .into_par_iter()
+        .filter(|&i| usable[i] && !sides(&triangles[i], front).0)
+        .collect();
+    let mut budget = TESTS_FIXED + TESTS_PER_VERTEX * points.len();
+    let mut result = vec![false; triangles.len()];
+    for batch in unsettled.chunks(BATCH) {
+        if budget == 0 {
+            break;
+        }
+        let tested: Vec<(bool, usize)> = batch
+            .par_iter()
+            .map(|&i| sides(&triangles[i], rest))
+            .collect();
+        for (&i, &(split, tests)) in batch.iter().zip(&tested) {
+            result[i] = !split;
+            budget = budget.saturating_sub(tests);
+        }
     }
     result
 }
@@ -172,11 +191,42 @@ mod tests {
             .collect();
         let hull = hull_faces(&scene);
         let vertices = 3 * scene.len();
-        // The first triangles are each tested against every vertex; the one the budget runs
-        // out in, and all after it, are left occluders.
-        let complete = (TESTS_FIXED + TESTS_PER_VERTEX * vertices) / vertices;
-        assert!(complete > 16 && complete < scene.len() / 2, "{complete}");
+        // No extreme vertex settles a hull face: each batch of triangles is tested against
+        // every other vertex while budget is left before it; the triangles of the batches
+        // after are left occluders.
+        let per_batch = BATCH * (vertices - EXTREMES);
+        let budget = TESTS_FIXED + TESTS_PER_VERTEX * vertices;
+        let complete = budget.div_ceil(per_batch) * BATCH;
+        assert!(
+            complete >= 2 * BATCH && complete < scene.len() / 2,
+            "{complete}"
+        );
         assert!(hull[..complete].iter().all(|&h| h));
         assert!(hull[complete..].iter().all(|&h| !h));
+    }
+
+    #[test]
+    fn the_answer_is_the_same_on_one_thread_and_on_several() {
+        // Chunks with budgets of their own: where the budget runs out does not depend on which
+        // thread tests what. A room with a box, and the strip past its budget.
+        let mut room = cube(Vec3::ZERO, Vec3::splat(10.0));
+        room.extend(cube(Vec3::splat(3.0), Vec3::splat(5.0)));
+        let p = |k: usize, y: f32| Vec3::new(k as f32, y, (k * k) as f32);
+        let strip: Vec<[Vec3; 3]> = (0..1usize << 11)
+            .flat_map(|k| quad([p(k, 0.0), p(k + 1, 0.0), p(k + 1, 1.0), p(k, 1.0)]))
+            .collect();
+        for scene in [room, strip] {
+            let one = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap()
+                .install(|| hull_faces(&scene));
+            let many = rayon::ThreadPoolBuilder::new()
+                .num_threads(4)
+                .build()
+                .unwrap()
+                .install(|| hull_faces(&scene));
+            assert_eq!(one, many);
+        }
     }
 }
