@@ -146,6 +146,29 @@ fn block_over_seeds(runs: &[Vec<[f64; 3]>], b: usize) -> ([f64; 3], [f64; 3]) {
     mean_over_seeds(&per_seed)
 }
 
+/// Asserts that each block's mean over seeds agrees between the reuse graph's `reuse` and the
+/// fused pass's `fused` (each seed's block means) within 5 standard errors of the difference,
+/// the two standard errors (from the spread between seeds) combined; returns how many blocks
+/// the fused pass lights (mean above 1e-3).
+fn assert_blocks_agree(reuse: &[Vec<[f64; 3]>], fused: &[Vec<[f64; 3]>]) -> usize {
+    let mut lit = 0;
+    for b in 0..reuse[0].len() {
+        let (r, r_se) = block_over_seeds(reuse, b);
+        let (f, f_se) = block_over_seeds(fused, b);
+        lit += usize::from(f[0] > 1e-3);
+        for k in 0..3 {
+            let bound = 5.0 * (r_se[k].powi(2) + f_se[k].powi(2)).sqrt() + 1e-6;
+            assert!(
+                (r[k] - f[k]).abs() < bound,
+                "block {b}, component {k}: reuse {} fused {}, bound {bound}",
+                r[k],
+                f[k]
+            );
+        }
+    }
+    lit
+}
+
 #[test]
 fn shared_bounces_keep_the_expectation_in_every_region_of_the_cornell_box() {
     // A bias from reuse would be local (a connection's visibility, a side of a wall), so the
@@ -202,21 +225,7 @@ fn a_shared_bounce_reaches_only_the_pixels_that_see_it() {
             .collect()
     };
     let (reuse, fused) = (blocks(REUSE), blocks("graphs/pathtracer-fast.ron"));
-    let mut lit = 0;
-    for b in 0..reuse[0].len() {
-        let (r, r_se) = block_over_seeds(&reuse, b);
-        let (f, f_se) = block_over_seeds(&fused, b);
-        lit += usize::from(f[0] > 1e-3);
-        for k in 0..3 {
-            let bound = 5.0 * (r_se[k].powi(2) + f_se[k].powi(2)).sqrt() + 1e-6;
-            assert!(
-                (r[k] - f[k]).abs() < bound,
-                "block {b}, component {k}: reuse {} fused {}, bound {bound}",
-                r[k],
-                f[k]
-            );
-        }
-    }
+    let lit = assert_blocks_agree(&reuse, &fused);
     assert!(
         lit > 10,
         "only {lit} blocks have indirect light: the scene tests nothing"
@@ -350,21 +359,7 @@ fn shared_bounces_keep_the_expectation_among_glossy_glass_and_textured_surfaces(
     };
     let reuse = blocks(REUSE, &["path.per_pixel_sharing=true"]);
     let fused = blocks("graphs/pathtracer-fast.ron", &[]);
-    let mut lit = 0;
-    for b in 0..reuse[0].len() {
-        let (r, r_se) = block_over_seeds(&reuse, b);
-        let (f, f_se) = block_over_seeds(&fused, b);
-        lit += usize::from(f[0] > 1e-3);
-        for k in 0..3 {
-            let bound = 5.0 * (r_se[k].powi(2) + f_se[k].powi(2)).sqrt() + 1e-6;
-            assert!(
-                (r[k] - f[k]).abs() < bound,
-                "block {b}, component {k}: reuse {} fused {}, bound {bound}",
-                r[k],
-                f[k]
-            );
-        }
-    }
+    let lit = assert_blocks_agree(&reuse, &fused);
     assert!(lit > 48, "only {lit} of 64 pixels have indirect light");
 }
 
@@ -412,17 +407,5 @@ fn a_normal_mapped_primary_hit_weighs_shared_hits_by_its_mapped_normal() {
             .collect()
     };
     let (reuse, fused) = (blocks(REUSE), blocks("graphs/pathtracer-fast.ron"));
-    for b in 0..reuse[0].len() {
-        let (r, r_se) = block_over_seeds(&reuse, b);
-        let (f, f_se) = block_over_seeds(&fused, b);
-        for k in 0..3 {
-            let bound = 5.0 * (r_se[k].powi(2) + f_se[k].powi(2)).sqrt() + 1e-6;
-            assert!(
-                (r[k] - f[k]).abs() < bound,
-                "block {b}, component {k}: reuse {} fused {}, bound {bound}",
-                r[k],
-                f[k]
-            );
-        }
-    }
+    assert_blocks_agree(&reuse, &fused);
 }
