@@ -26,8 +26,8 @@
 // glossy or glassy the rest of the scene is. That is off by default: a glossy hit's light is
 // its drawer's alone (below), and where glossy hits carry much of the indirect light (a rough
 // metal or glass caustic), a pixel that shares gets b of them where tracing alone it gets
-// bounces * reuse_pixels; measured 2-17x the variance per sample and 1.4-5x per second on the
-// scenes tried (docs/benchmark-history.md, 2026-12-04). Per sample:
+// bounces * reuse_pixels; measured 3.5-17x the variance per sample and 1.3-7.7x the variance
+// times the time on the scenes tried (docs/benchmark-history.md, 2026-12-04). Per sample:
 // - L(x2) toward another member's x1 is the light the member that drew x2 found leaving it (its
 //   next-event estimate and, past max_depth 3, the paths that continue from x2: path_light.wgsl),
 //   the same toward every x1 in front of x2 only where x2 is Lambertian (no map tilting its
@@ -82,9 +82,11 @@ override reuse_pixels: u32 = 4u;
 // instead of letting every pixel trace alone.
 override per_pixel_sharing: bool = false;
 
-// Room in each lane's private arrays; 8 pixels of 4 bounces fill a 32-bit visibility row.
+// Room in each lane's private arrays: bounces per pixel, pixels per group, and one density per
+// group hit.
 const REUSE_MAX_BOUNCES: u32 = 4u;
 const REUSE_MAX_PIXELS: u32 = 8u;
+const REUSE_MAX_HITS: u32 = REUSE_MAX_BOUNCES * REUSE_MAX_PIXELS;
 
 // The tile position of invocation i of the 64 that shade an 8x8 tile (dispatch PerTile(8, 8):
 // subgroup builtins need a one-dimensional workgroup): each run of 8 invocations covers a 4x2
@@ -103,9 +105,6 @@ fn reuse_shareable(x: ShadingPoint) -> bool {
     return scene_has_kind(MATERIAL_LAMBERT) && x.b.kind == MATERIAL_LAMBERT
         && all(x.ns == x.n_smooth) && x.opacity == 1.0;
 }
-
-// Room for one density per group hit: 8 pixels of 4 bounces.
-const REUSE_MAX_HITS: u32 = 32u;
 
 // The indirect light of a pixel that shares nothing: the mean of n bounces it traces itself,
 // path.wgsl's estimate.
@@ -251,13 +250,13 @@ fn main(
                 let nq = subgroupShuffle(normal[j], base + m);
                 let nsq = subgroupShuffle(shading_n[j], base + m);
                 let lq = subgroupShuffle(light[j], base + m);
-                // The path's value is 0 toward an x1 behind x2's shading normal.
                 if density[h] == 0.0 {
                     continue;
                 }
                 let w = q - p.s.p;
                 let d2 = dot(w, w);
                 let dir = w * inverseSqrt(d2);
+                // The path's value is 0 toward an x1 behind x2's shading normal.
                 if dot(nsq, dir) < 0.0 {
                     estimate += point_eval(p, wo, dir) * (-dot(nq, dir) / d2) * lq / total;
                 }

@@ -232,21 +232,35 @@ fn a_shared_bounce_reaches_only_the_pixels_that_see_it() {
     );
 }
 
-/// A copy of the Cornell box in a temporary folder with its material library rewritten by
-/// `edit` (which must change it).
-fn cornell_with_materials(
-    edit: impl Fn(&str) -> String,
+/// A copy of the Cornell box in a temporary folder with its mesh and material library rewritten
+/// by `obj` and `mtl` (which must change something).
+fn cornell_with(
+    obj: impl Fn(&str) -> String,
+    mtl: impl Fn(&str) -> String,
 ) -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let cornell = root().join("scenes/cornell");
-    std::fs::copy(cornell.join("cornell.obj"), dir.path().join("cornell.obj")).unwrap();
-    let mtl = std::fs::read_to_string(cornell.join("cornell.mtl")).unwrap();
-    let edited = edit(&mtl);
-    assert_ne!(edited, mtl, "the material library was not changed");
-    std::fs::write(dir.path().join("cornell.mtl"), edited).unwrap();
+    let mut changed = false;
+    for (name, edit) in [
+        ("cornell.obj", &obj as &dyn Fn(&str) -> String),
+        ("cornell.mtl", &mtl),
+    ] {
+        let text = std::fs::read_to_string(cornell.join(name)).unwrap();
+        let edited = edit(&text);
+        changed |= edited != text;
+        std::fs::write(dir.path().join(name), edited).unwrap();
+    }
+    assert!(changed, "the Cornell box was not changed");
     std::fs::copy(cornell.join("scene.ron"), dir.path().join("scene.ron")).unwrap();
     let scene = dir.path().join("scene.ron");
     (dir, scene)
+}
+
+/// The Cornell box with its material library rewritten by `edit`.
+fn cornell_with_materials(
+    edit: impl Fn(&str) -> String,
+) -> (tempfile::TempDir, std::path::PathBuf) {
+    cornell_with(str::to_string, edit)
 }
 
 /// The indirect channels of the reuse graph (groups of 4, 2 bounces each; sharing decided per
@@ -373,31 +387,28 @@ fn a_normal_mapped_primary_hit_weighs_shared_hits_by_its_mapped_normal() {
     // must match the fused pass's within 5 standard errors of the difference. Weighed by the
     // geometric normal instead, as the pass did before 2026-12-04, a block on the wall is 6.5 %
     // too bright, 7 standard errors off.
-    let dir = tempfile::tempdir().unwrap();
-    let cornell = root().join("scenes/cornell");
-    let obj = std::fs::read_to_string(cornell.join("cornell.obj")).unwrap();
-    let mapped = obj
-        .replace(
-            "o back_wall\nusemtl white\n",
-            "o back_wall\nusemtl mapped\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n",
-        )
-        .replace("f 9 10 11 12", "f 9/1 10/2 11/3 12/4");
-    assert_eq!(
-        mapped.matches("mapped").count() + mapped.matches("9/1").count(),
-        2,
-        "the back wall was not found"
+    let (dir, scene) = cornell_with(
+        |obj| {
+            let mapped = obj
+                .replace(
+                    "o back_wall\nusemtl white\n",
+                    "o back_wall\nusemtl mapped\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n",
+                )
+                .replace("f 9 10 11 12", "f 9/1 10/2 11/3 12/4");
+            assert_eq!(
+                mapped.matches("mapped").count() + mapped.matches("9/1").count(),
+                2,
+                "the back wall was not found"
+            );
+            mapped
+        },
+        |mtl| format!("{mtl}\nnewmtl mapped\nKd 0.885809 0.698859 0.666422\nnorm stripes.png\n"),
     );
-    std::fs::write(dir.path().join("cornell.obj"), mapped).unwrap();
-    let mtl = std::fs::read_to_string(cornell.join("cornell.mtl")).unwrap();
-    let mtl = format!("{mtl}\nnewmtl mapped\nKd 0.885809 0.698859 0.666422\nnorm stripes.png\n");
-    std::fs::write(dir.path().join("cornell.mtl"), mtl).unwrap();
     std::fs::copy(
         root().join("tests/data/surface_maps/stripes.png"),
         dir.path().join("stripes.png"),
     )
     .unwrap();
-    std::fs::copy(cornell.join("scene.ron"), dir.path().join("scene.ron")).unwrap();
-    let scene = dir.path().join("scene.ron");
     let blocks = |graph: &str| -> Vec<Vec<[f64; 3]>> {
         (1..=16)
             .map(|seed| {

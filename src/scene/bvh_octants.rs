@@ -189,8 +189,10 @@ mod tests {
             let pairs = depth.len() * (depth.len() - 1) / 2;
             let tau: i64 = (0..depth.len())
                 .flat_map(|i| (i + 1..depth.len()).map(move |j| (i, j)))
-                .map(|(i, j)| {
-                    (depth[j] - depth[i]).signum() as i64 * i64::from(depth[i] != depth[j])
+                .map(|(i, j)| match depth[i].partial_cmp(&depth[j]) {
+                    Some(std::cmp::Ordering::Less) => 1,
+                    Some(std::cmp::Ordering::Greater) => -1,
+                    _ => 0,
                 })
                 .sum();
             assert!(
