@@ -391,6 +391,8 @@ fn lay_out(root: &Path, dir: &Path) {
         "CameraPath([\n    (frames: 4),\n    (frames: 2, eye: (1, 2, 3), fov_y: 30),\n])\n",
     )
     .unwrap();
+    std::fs::write(extra.join("part.exr"), partial(0..8)).unwrap();
+    std::fs::write(extra.join("next.exr"), partial(8..16)).unwrap();
     std::fs::write(
         extra.join("view.script"),
         "wait 2\nkey 2\nhold W 3\ndrag 10 -5\nscroll 2\nscreenshot a.png\nquit\n",
@@ -432,6 +434,8 @@ enum Target {
     Scene,
     CameraPath,
     Script,
+    /// A partial file (or checkpoint): read, checked, and merged with the range after it.
+    Partial,
 }
 
 /// Runs the loaders a mutated file feeds. Errors are expected and ignored; panics propagate.
@@ -481,7 +485,46 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
         Target::Script => {
             let _ = passgraph::view::script::Script::load(&dir.join("scenes/extra/view.script"));
         }
+        Target::Partial => {
+            let _ = passgraph::render::merge::merge_files(&[
+                dir.join("scenes/extra/part.exr"),
+                dir.join("scenes/extra/next.exr"),
+            ]);
+        }
     }
+}
+
+/// A small partial file of samples `range` (8x4 pixels, one sample dropped at the first pixel
+/// of the second range): the fuzzer's donor for partial files and checkpoints.
+fn partial(range: std::ops::Range<u32>) -> Vec<u8> {
+    use passgraph::render::partial::{Partial, Plane, SampleRange};
+    let pixels = 32;
+    let dropped = u32::from(range.start > 0);
+    let count: Vec<u32> = (0..pixels)
+        .map(|i| range.len() as u32 - if i == 0 { dropped } else { 0 })
+        .collect();
+    let plane = Plane {
+        mean: (0..pixels).map(|i| [i as f32 * 0.01, 0.5, 0.25]).collect(),
+        compensation: vec![[1e-9, 0.0, -1e-9]; pixels],
+        count,
+    };
+    Partial {
+        size: [8, 4],
+        samples: SampleRange {
+            start: range.start,
+            end: range.end,
+        },
+        dropped: u64::from(dropped),
+        fingerprint: passgraph::render::fingerprint::Fingerprint {
+            graph: 1,
+            scene: 2,
+            settings: "size 8x4, seed 0, max_depth 3".into(),
+        },
+        source: "fuzz".into(),
+        planes: vec![plane; 5],
+    }
+    .encode()
+    .unwrap()
 }
 
 struct Options {
@@ -612,6 +655,8 @@ fn main() {
             Target::CameraPath
         } else if name.ends_with(".script") {
             Target::Script
+        } else if name.ends_with(".exr") && name.contains("extra") {
+            Target::Partial
         } else {
             Target::Scene
         };

@@ -9,6 +9,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
 /// Paths to remove if a signal ends the process.
@@ -29,8 +30,47 @@ pub fn forget(path: &Path) {
     scratch().retain(|p| p != path);
 }
 
+/// Whether the first signal is left to the program ([`defer_signals`]).
+static DEFERRING: AtomicBool = AtomicBool::new(false);
+/// The signal a deferring program has not yet acted on; 0: none.
+static PENDING: AtomicI32 = AtomicI32::new(0);
+
+/// From now on the first SIGINT, SIGTERM or SIGHUP does not end the process: it is kept for
+/// [`pending_signal`], so that a render can write a checkpoint first and then
+/// [`die_of`] it. A second signal ends the process at once, as without deferral (temporary
+/// files removed, targets untouched), so a stuck program can still be stopped.
+pub fn defer_signals() {
+    DEFERRING.store(true, Ordering::SeqCst);
+}
+
+/// The deferred signal received, if any (see [`defer_signals`]).
+pub fn pending_signal() -> Option<i32> {
+    match PENDING.load(Ordering::SeqCst) {
+        0 => None,
+        signal => Some(signal),
+    }
+}
+
+/// Removes every registered path and ends the process as `signal` would have.
+pub fn die_of(signal: i32) -> ! {
+    // Keep the lock: no temporary file is created after the list is emptied.
+    let paths = scratch();
+    for path in paths.iter() {
+        if path.is_dir() {
+            let _ = std::fs::remove_dir_all(path);
+        } else {
+            let _ = std::fs::remove_file(path);
+        }
+    }
+    // Die of the signal, so the parent sees how we ended.
+    #[cfg(unix)]
+    let _ = signal_hook::low_level::emulate_default_handler(signal);
+    std::process::exit(128 + signal);
+}
+
 /// Starts a thread that, on SIGINT, SIGTERM or SIGHUP, removes every registered path and then
-/// ends the process as that signal would have. Call once, early in `main`.
+/// ends the process as that signal would have (or, after [`defer_signals`], keeps the first
+/// signal for the program). Call once, early in `main`.
 #[cfg(unix)]
 pub fn install_signal_cleanup() -> std::io::Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
@@ -38,19 +78,13 @@ pub fn install_signal_cleanup() -> std::io::Result<()> {
     std::thread::Builder::new()
         .name("signal-cleanup".into())
         .spawn(move || {
-            if let Some(signal) = signals.forever().next() {
-                // Keep the lock: no temporary file is created after the list is emptied.
-                let paths = scratch();
-                for path in paths.iter() {
-                    if path.is_dir() {
-                        let _ = std::fs::remove_dir_all(path);
-                    } else {
-                        let _ = std::fs::remove_file(path);
-                    }
+            for signal in signals.forever() {
+                let first = PENDING
+                    .compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst)
+                    .is_ok();
+                if !(first && DEFERRING.load(Ordering::SeqCst)) {
+                    die_of(signal);
                 }
-                // Die of the signal, so the parent sees how we ended.
-                let _ = signal_hook::low_level::emulate_default_handler(signal);
-                std::process::exit(128 + signal);
             }
         })?;
     Ok(())
@@ -131,11 +165,82 @@ pub fn check_target(target: &Path) -> std::io::Result<()> {
             format!("{} is not a directory", dir.display()),
         ));
     }
-    if std::fs::metadata(target).is_ok_and(|m| m.is_dir()) {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::IsADirectory,
-            "it is a directory",
-        ));
+    match std::fs::metadata(target) {
+        Ok(m) if m.is_dir() => {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::IsADirectory,
+                "it is a directory",
+            ));
+        }
+        Ok(m) if !m.is_file() => return Err(not_a_regular_file()),
+        _ => {}
+    }
+    // A file can be created there (the directory is writable, the disk not read-only): found
+    // now rather than after the work whose result it would hold.
+    tempfile::Builder::new()
+        .prefix(".passgraph-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| std::io::Error::new(e.kind(), format!("directory {}: {e}", dir.display())))?;
+    Ok(())
+}
+
+fn not_a_regular_file() -> std::io::Error {
+    std::io::Error::new(
+        std::io::ErrorKind::InvalidInput,
+        "it is not a regular file (a FIFO, socket or device): outputs are written whole by renaming over them; name a regular file",
+    )
+}
+
+/// Where an output is written: a symbolic link's target (followed to the end), so that the
+/// file the link names is replaced and the link stays; else the path itself.
+fn resolve_link(target: &Path) -> std::io::Result<PathBuf> {
+    match std::fs::symlink_metadata(target) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(target).or_else(|_| {
+            // A dangling link: write where it points.
+            let link = std::fs::read_link(target)?;
+            Ok(match target.parent() {
+                Some(dir) => dir.join(link),
+                None => link,
+            })
+        }),
+        _ => Ok(target.to_path_buf()),
+    }
+}
+
+/// Whether `a` and `b` name one existing file (the same device and inode, so `./x`, `x`, a
+/// symbolic link to it and a hard link all count).
+#[cfg(unix)]
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// Refuses an output that is one of the command's inputs (`what` says which, e.g.
+/// "--reference"): writing it would destroy what the command read.
+pub fn refuse_outputs_that_are_inputs(
+    outputs: &[&Path],
+    inputs: &[(&str, &Path)],
+) -> Result<(), String> {
+    for output in outputs {
+        if let Some((what, input)) = inputs.iter().find(|(_, input)| same_file(output, input)) {
+            return Err(format!(
+                "{}: is also {what} {}, which this command reads; writing it would destroy that input: name another output",
+                output.display(),
+                input.display()
+            ));
+        }
     }
     Ok(())
 }
@@ -150,9 +255,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 /// themselves are separate steps: POSIX has no rename of several files at once.) The error
 /// names the file it concerns.
 pub fn write_atomic_set(files: &[(&Path, &[u8])]) -> Result<(), (PathBuf, std::io::Error)> {
+    let resolved = files
+        .iter()
+        .map(|&(target, _)| resolve_link(target).map_err(|e| (target.to_path_buf(), e)))
+        .collect::<Result<Vec<PathBuf>, _>>()?;
     let mut pending = Vec::with_capacity(files.len());
-    for &(target, bytes) in files {
-        let fail = |e: std::io::Error| (target.to_path_buf(), e);
+    for (&(shown, bytes), target) in files.iter().zip(&resolved) {
+        let fail = |e: std::io::Error| (shown.to_path_buf(), e);
+        if std::fs::metadata(target).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+            return Err(fail(not_a_regular_file()));
+        }
         let mut p = create_temp(target).map_err(fail)?;
         if let Some(file) = p.file.as_mut() {
             file.write_all(bytes).map_err(fail)?;
@@ -230,6 +342,45 @@ mod tests {
         drop(pending);
         assert!(!temp.exists());
         assert!(!scratch().contains(&temp));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writing_through_a_symbolic_link_replaces_the_file_it_names_and_keeps_the_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.png");
+        let link = dir.path().join("link.png");
+        std::fs::write(&real, "old").unwrap();
+        std::os::unix::fs::symlink("real.png", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_or_an_unwritable_directory_is_refused_before_any_work() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("out.png");
+        let status = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let e = check_target(&fifo).unwrap_err().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+        let e = write_atomic(&fifo, b"x").unwrap_err().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+        // /proc takes no new files, not even from root.
+        let e = check_target(Path::new("/proc/out.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("directory /proc"), "{e}");
     }
 
     #[test]

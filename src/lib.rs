@@ -7,6 +7,7 @@
 pub mod atomic_write;
 pub mod bench;
 pub mod bsdf;
+pub mod builtin;
 pub mod gpu;
 pub mod graph;
 pub mod graphtest;

@@ -5,15 +5,16 @@ use passgraph::bench::metrics::image_error;
 use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::{Channel, ChannelSelection};
+use passgraph::render::checkpoint::{Checkpoints, accumulation, resume};
 use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::image::{RgbImage, check_output_path};
-use passgraph::render::partial::{MAX_RANGE, Partial, SampleRange};
+use passgraph::render::partial::{MAX_RANGE, SampleRange};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Built-in defaults, so `cargo run --release` alone renders the Cornell box.
 const DEFAULT_GRAPH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs/pathtracer.ron");
@@ -149,6 +150,18 @@ struct RenderArgs {
     /// merge`: of --samples A..B, or of 0..N with --frames N. No image unless --out is given.
     #[arg(long, value_name = "PART.exr", conflicts_with = "camera_path")]
     partial: Option<PathBuf>,
+    /// Write the accumulation so far to this partial file (a checkpoint) every
+    /// --checkpoint-every seconds, when SIGTERM, SIGINT or SIGHUP arrives (then end as that
+    /// signal would) and when done; --resume continues from it. Untiled renders only.
+    #[arg(long, value_name = "CKPT.exr", conflicts_with_all = ["camera_path", "tile"])]
+    checkpoint: Option<PathBuf>,
+    /// Seconds between checkpoints (default 300; 0: after every frame).
+    #[arg(long, value_name = "SECONDS", requires = "checkpoint", value_parser = parse_interval)]
+    checkpoint_every: Option<f64>,
+    /// Continue the render a checkpoint (or partial file) of the same graph, scene and settings
+    /// holds: the result is bit for bit that of the render never stopped.
+    #[arg(long, value_name = "CKPT.exr", conflicts_with_all = ["camera_path", "tile"])]
+    resume: Option<PathBuf>,
     /// Image size, WxH; default: a Mitsuba scene's film size, else 256x256.
     #[arg(long, value_parser = parse_size)]
     size: Option<[u32; 2]>,
@@ -365,7 +378,7 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
     )?;
     let md = report::markdown(&runs, &extra);
     report::write_text(&args.out.join("report.md"), &md)?;
-    print!("{md}");
+    say(&md)?;
     eprintln!("wrote {}", args.out.display());
     Ok(())
 }
@@ -531,12 +544,12 @@ fn render_camera_path(
             let image = session.image(channel).map_err(|e| e.to_string())?;
             let error =
                 image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
-            println!(
+            say_line(&format!(
                 "frame {frame} (segment {number}, {} accumulated): RMSE {:.5}, relMSE {:.3e}",
                 session.accumulated(),
                 error.rmse,
                 error.relmse
-            );
+            ))?;
             rows.push(PathError {
                 frame,
                 segment: number,
@@ -608,10 +621,43 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     if let Some(path) = &args.partial {
         check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
+    if let Some(path) = &args.checkpoint {
+        check_partial_path(path, &args.out).map_err(Failure::Usage)?;
+        if args.partial.as_ref() == Some(path) {
+            return Err(Failure::Usage(format!(
+                "{}: given as both --partial and --checkpoint; the final checkpoint is the partial of the whole range already",
+                path.display()
+            )));
+        }
+    }
     if let Some(csv) = &args.error_csv {
         passgraph::atomic_write::check_target(csv)
             .map_err(|e| Failure::Usage(format!("{}: cannot write: {e}", csv.display())))?;
     }
+    // No output may replace an input, but a checkpoint may replace the one it resumes from
+    // (with more samples).
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(path) = &args.reference {
+        inputs.push(("the --reference", path));
+    }
+    if let Some(path) = &args.camera_path {
+        inputs.push(("the --camera-path", path));
+    }
+    let checkpoint: Vec<&Path> = args.checkpoint.iter().map(PathBuf::as_path).collect();
+    passgraph::atomic_write::refuse_outputs_that_are_inputs(&checkpoint, &inputs)
+        .map_err(Failure::Usage)?;
+    if let Some(path) = &args.resume {
+        inputs.push(("the --resume checkpoint", path));
+    }
+    let outputs: Vec<&Path> = args
+        .out
+        .iter()
+        .chain(&args.partial)
+        .chain(&args.error_csv)
+        .map(PathBuf::as_path)
+        .collect();
+    passgraph::atomic_write::refuse_outputs_that_are_inputs(&outputs, &inputs)
+        .map_err(Failure::Usage)?;
     let reference = match &args.reference {
         Some(path) => {
             let reference = RgbImage::read_exr(path)?;
@@ -649,19 +695,51 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         defines: args.define.clone(),
         camera: args.camera.clone(),
     };
-    // A partial file reads the whole accumulation back: only an untiled session has one.
-    let mut render = match &args.partial {
-        Some(_) => {
-            Session::for_partial(&settings, &args.channel).map(|s| ImageRender::Whole(Box::new(s)))
-        }
-        None => ImageRender::for_render(&settings, &args.channel, args.tile),
+    // A partial file, a checkpoint or a resumed render reads or writes the whole accumulation:
+    // only an untiled session has one.
+    let whole_accumulation =
+        args.partial.is_some() || args.checkpoint.is_some() || args.resume.is_some();
+    let mut render = if whole_accumulation {
+        Session::for_partial(&settings, &args.channel).map(|s| ImageRender::Whole(Box::new(s)))
+    } else {
+        ImageRender::for_render(&settings, &args.channel, args.tile)
     }
     .map_err(|e| e.to_string())?;
-    let fingerprint = match &args.partial {
-        Some(_) => Some(Fingerprint::of(&settings, render.session())?),
-        None => None,
+    let fingerprint = if whole_accumulation {
+        Some(Fingerprint::of(&settings, render.session())?)
+    } else {
+        None
     };
     render.start_at_sample(range.start);
+    if args.checkpoint.is_some()
+        && let Some(name) = render.session().state_beyond_accumulation()
+    {
+        return Err(format!(
+            "{}: keeps state in '{name}' from frame to frame, which a checkpoint does not hold: checkpoint a graph whose only history is its accumulation (e.g. graphs/pathtracer-fast.ron)",
+            settings.graph.display()
+        )
+        .into());
+    }
+    let source = format!(
+        "graph {}, scene {}, adapter {}",
+        settings.graph.display(),
+        settings.scene.display(),
+        passgraph::gpu::context::describe(render.session().context().adapter_info())
+    );
+    let resumed = match (&args.resume, &fingerprint, render.whole_mut()) {
+        (Some(path), Some(fingerprint), Some(session)) => {
+            Some(resume(path, session, fingerprint, range.end)?)
+        }
+        _ => None,
+    };
+    let mut checkpoints = args.checkpoint.clone().map(|path| {
+        // The first signal now asks for a checkpoint; a second still ends the process at once.
+        passgraph::atomic_write::defer_signals();
+        Checkpoints::new(
+            path,
+            Duration::from_secs_f64(args.checkpoint_every.unwrap_or(300.0)),
+        )
+    });
     if range.start > 0 && !range.is_power_of_two_aligned() {
         eprintln!(
             "note: samples {range} are not a power-of-two block aligned to its length (e.g. 64..128); with the Sobol sampler this range alone is less evenly stratified than such a block, though a merge of ranges is the same as the whole render"
@@ -712,6 +790,8 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     }
     eprintln!("{}", render.memory_line());
     let start = Instant::now();
+    // The frames of the camera path's segments rendered, all of them (not only the last's).
+    let mut path_frames = None;
     if let Some(segments) = &segments {
         let session = render.whole_mut().ok_or_else(|| {
             "--camera-path renders whole images only: use a smaller --size".to_string()
@@ -725,6 +805,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
             }
             None => (segments.as_slice(), (1, 0)),
         };
+        path_frames = Some(segments.iter().map(|s| u64::from(s.frames)).sum::<u64>());
         let rows = render_camera_path(session, segments, first, &args.channel)?;
         if let Some(csv) = &args.error_csv {
             let mut text = String::from("frame,segment,accumulated,rmse,relmse,bias\n");
@@ -738,7 +819,19 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         }
     }
     // Tiles are rendered one after another: the bar counts frames of tiles.
-    let frames = if segments.is_some() { 0 } else { range.len() };
+    let done = resumed.map_or(0, |r| r.len());
+    if let (Some(path), Some(r)) = (&args.resume, resumed) {
+        eprintln!(
+            "resumed from {}: samples {r} done, {} to go",
+            path.display(),
+            range.len() - done
+        );
+    }
+    let frames = if segments.is_some() {
+        0
+    } else {
+        range.len() - done
+    };
     let bar = indicatif::ProgressBar::new(render.steps(frames));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
@@ -748,6 +841,32 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     for _ in 0..render.steps(frames) {
         render.render_frame().map_err(|e| e.to_string())?;
         bar.inc(1);
+        if let (Some(checkpoints), Some(fingerprint)) = (&mut checkpoints, &fingerprint) {
+            let signal = passgraph::atomic_write::pending_signal();
+            if signal.is_some() || checkpoints.due() {
+                let samples =
+                    checkpoints.write(render.session(), range.start, fingerprint, &source)?;
+                // A line each, for a farm's log (and for tests to act on).
+                bar.suspend(|| {
+                    eprintln!(
+                        "checkpoint: samples {samples} in {} ({:.1} ms)",
+                        checkpoints.path.display(),
+                        checkpoints
+                            .costs
+                            .last()
+                            .map_or(0.0, |c| c.as_secs_f64() * 1e3)
+                    )
+                });
+            }
+            if let Some(signal) = signal {
+                bar.finish_and_clear();
+                eprintln!(
+                    "signal {signal}: the checkpoint is written; continue with --resume {}",
+                    checkpoints.path.display()
+                );
+                passgraph::atomic_write::die_of(signal);
+            }
+        }
     }
     // Reading the result waits for the GPU, so the time below includes every frame's work.
     let image = render.image(&args.channel).map_err(|e| e.to_string())?;
@@ -761,61 +880,62 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         .iter()
         .map(|path| Ok((path.as_path(), image.encode_for(path)?)))
         .collect::<Result<Vec<_>, String>>()?;
-    if let (Some(path), Some(fingerprint)) = (&args.partial, fingerprint) {
-        let source = format!(
-            "graph {}, scene {}, adapter {}",
-            settings.graph.display(),
-            settings.scene.display(),
-            passgraph::gpu::context::describe(render.session().context().adapter_info())
-        );
-        let partial = Partial::from_buffers(
-            settings.size,
-            range,
-            u64::from(dropped),
-            fingerprint,
-            source,
-            &render.session().result().map_err(|e| e.to_string())?,
-            &render.session().compensation().map_err(|e| e.to_string())?,
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-        encoded.push((
-            path.as_path(),
-            partial
-                .encode()
-                .map_err(|e| format!("{}: {e}", path.display()))?,
-        ));
+    // The partial file and the last checkpoint: the accumulation of the whole range.
+    let accumulation_outputs: Vec<&PathBuf> = args
+        .partial
+        .iter()
+        .chain(checkpoints.as_ref().map(|c| &c.path))
+        .collect();
+    if let (Some(first), Some(fingerprint)) = (accumulation_outputs.first(), &fingerprint) {
+        let bytes = accumulation(render.session(), range.start, fingerprint, &source)
+            .and_then(|partial| partial.encode())
+            .map_err(|e| format!("{}: {e}", first.display()))?;
+        for path in accumulation_outputs {
+            encoded.push((path.as_path(), bytes.clone()));
+        }
     }
     write_files(&encoded)?;
+    if let Some(cost) = checkpoints.as_ref().and_then(|c| c.median_cost()) {
+        eprintln!(
+            "checkpoints: {} written during the render, {:.1} ms each (median)",
+            checkpoints.as_ref().map_or(0, |c| c.costs.len()),
+            cost.as_secs_f64() * 1e3
+        );
+    }
     if let Some((path, reference)) = &reference {
         let e = image_error(&image, reference).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!(
+        say_line(&format!(
             "error of {} against {}: RMSE {:.5}, relMSE {:.3e}, bias {:+.5}",
             args.channel,
             path.display(),
             e.rmse,
             e.relmse,
             e.bias
-        );
+        ))?;
     }
-    let frames = render.accumulated();
-    let fps = f64::from(frames) / seconds;
-    let samples = match args.samples {
-        Some(range) => format!(" (samples {range})"),
-        None => String::new(),
+    // The frames this process rendered (not those a checkpoint brought; a camera path's in
+    // every segment).
+    let frames = path_frames.unwrap_or(u64::from(render.accumulated() - done));
+    let fps = frames as f64 / seconds;
+    let samples = match (args.samples, resumed) {
+        (_, Some(r)) => format!(" (samples {}..{}, after {r} resumed)", r.end, range.end),
+        (Some(range), None) => format!(" (samples {range})"),
+        (None, None) => String::new(),
     };
     let rays = match render.rays_counted().map_err(|e| e.to_string())? {
         Some(counted) => format!("{:.2} Mrays/s", counted as f64 / seconds / 1e6),
         None => "rays not counted (no pass binds ray_count)".to_string(),
     };
-    println!(
+    say_line(&format!(
         "{frames} frames{samples} in {seconds:.2} s: {fps:.1} frames/s, {rays}, {dropped} dropped samples; wrote {}",
         args.out
             .iter()
             .chain(&args.partial)
+            .chain(&args.checkpoint)
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
-    );
+    ))?;
     Ok(())
 }
 
@@ -862,6 +982,19 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
     if let Some(path) = &args.partial {
         check_partial_path(path, &args.out).map_err(Failure::Usage)?;
     }
+    let outputs: Vec<&Path> = args
+        .out
+        .iter()
+        .chain(&args.partial)
+        .map(PathBuf::as_path)
+        .collect();
+    let inputs: Vec<(&str, &Path)> = args
+        .partials
+        .iter()
+        .map(|p| ("the partial", p.as_path()))
+        .collect();
+    passgraph::atomic_write::refuse_outputs_that_are_inputs(&outputs, &inputs)
+        .map_err(Failure::Usage)?;
     let merged = passgraph::render::merge::merge_files(&args.partials)?;
     let [w, h] = merged.size;
     let image = RgbImage::from_result(&merged.to_result(), w, h, planes);
@@ -879,7 +1012,7 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
         ));
     }
     write_files(&encoded)?;
-    println!(
+    say_line(&format!(
         "merged {} partials: samples {}, {w}x{h}, {} dropped samples; wrote {}",
         args.partials.len(),
         merged.samples,
@@ -889,7 +1022,7 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
             .map(|(p, _)| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
-    );
+    ))?;
     Ok(())
 }
 
@@ -902,6 +1035,16 @@ fn write_files(encoded: &[(&std::path::Path, Vec<u8>)]) -> Result<(), String> {
 }
 
 /// A positive frame count: zero frames would write a black image (or, for bench, render one).
+/// Seconds between checkpoints: finite and not negative (0: after every frame).
+fn parse_interval(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && (0.0..=1e9).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "'{s}' is not a number of seconds from 0 to 1e9 (0: a checkpoint after every frame)"
+        )),
+    }
+}
+
 fn parse_frames(s: &str) -> Result<u32, String> {
     match s.trim().parse::<u32>() {
         Ok(n) if n > 0 => Ok(n),
@@ -995,20 +1138,20 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 check_render_contract(&p, &ChannelSelection::Planes(vec![Channel::Sum]))
                     .map_err(|e| e.to_string())?;
             }
-            println!(
+            say_line(&format!(
                 "{}: ok ({} passes in {} stages, {} culled)",
                 g.graph.display(),
                 p.passes.len(),
                 p.stages.len(),
                 p.culled.len()
-            );
+            ))?;
         }
         Command::Plan { graph, chart } => {
             let p = plan(&graph)?;
             if chart {
-                print!("{}", passgraph::graph::plan_chart::lifetime_chart(&p));
+                say(&passgraph::graph::plan_chart::lifetime_chart(&p))?;
             } else {
-                print!("{p}");
+                say(&p.to_string())?;
             }
         }
         Command::Test {
@@ -1055,18 +1198,18 @@ fn run(cli: Cli) -> Result<(), Failure> {
             }
             let options = passgraph::scene::mitsuba::ExportOptions { size, max_depth };
             let written = passgraph::scene::mitsuba::export(&scene, &out, &options)?;
-            println!(
+            say_line(&format!(
                 "wrote {} ({} meshes)",
                 out.join("scene.xml").display(),
                 written.len() - 1
-            );
+            ))?;
         }
         Command::Dot { graph, out } => {
             let dot = to_dot(&plan(&graph)?);
             match out {
                 Some(path) => passgraph::atomic_write::write_atomic(&path, dot.as_bytes())
                     .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
-                None => print!("{dot}"),
+                None => say(&dot)?,
             }
         }
     }
@@ -1081,7 +1224,8 @@ fn quiet_mesa_without_a_session() -> Option<RuntimeDir> {
     if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
         return None;
     }
-    let dir = std::env::temp_dir().join(format!("passgraph-runtime-{}", std::process::id()));
+    remove_runtime_dirs_of_dead_processes();
+    let dir = std::env::temp_dir().join(format!("{RUNTIME_DIR_PREFIX}{}", std::process::id()));
     #[cfg(unix)]
     let made = {
         use std::os::unix::fs::DirBuilderExt;
@@ -1098,6 +1242,43 @@ fn quiet_mesa_without_a_session() -> Option<RuntimeDir> {
     Some(RuntimeDir(dir))
 }
 
+const RUNTIME_DIR_PREFIX: &str = "passgraph-runtime-";
+/// The built-in defaults of a binary outside its build tree (see [`builtin_defaults`]).
+const BUILTIN_DIR_PREFIX: &str = "passgraph-builtin-";
+
+/// SIGKILL (or SIGQUIT, or a crash) ends a process without its guard: the runtime and built-in
+/// directories of this user's passgraph processes that no longer run are removed at the next
+/// start.
+fn remove_runtime_dirs_of_dead_processes() {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else {
+            return;
+        };
+        // SAFETY: getuid has no preconditions and cannot fail.
+        let uid = unsafe { libc::getuid() };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name
+                .to_str()
+                .and_then(|n| {
+                    n.strip_prefix(RUNTIME_DIR_PREFIX)
+                        .or_else(|| n.strip_prefix(BUILTIN_DIR_PREFIX))
+                })
+                .and_then(|p| p.parse::<u32>().ok())
+            else {
+                continue;
+            };
+            let ours = entry.metadata().is_ok_and(|m| m.is_dir() && m.uid() == uid);
+            let alive = Path::new(&format!("/proc/{pid}")).exists();
+            if ours && !alive {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
+        }
+    }
+}
+
 struct RuntimeDir(PathBuf);
 
 impl Drop for RuntimeDir {
@@ -1108,13 +1289,78 @@ impl Drop for RuntimeDir {
     }
 }
 
+/// Writes to standard output. A closed pipe (`passgraph plan G | head -1`) ends the output
+/// quietly, as Unix tools do; any other write error (a full disk) is an error saying so.
+fn say(text: &str) -> Result<(), String> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(format!("cannot write to standard output: {e}")),
+    }
+}
+
+/// [`say`] with a line break.
+fn say_line(text: &str) -> Result<(), String> {
+    say(&format!("{text}\n"))
+}
+
+/// A binary outside its build tree (copied to a farm worker, installed) renders its built-in
+/// defaults (src/builtin.rs): they are written to a private temporary folder, removed at exit,
+/// and the default graph and scene paths point into it.
+fn builtin_defaults(cli: &mut Cli) -> Result<Option<RuntimeDir>, String> {
+    use passgraph::builtin;
+    if builtin::in_build_tree() {
+        return Ok(None);
+    }
+    let (graph, scene) = (builtin::build_tree_graph(), builtin::build_tree_scene());
+    let mut paths: Vec<&mut PathBuf> = Vec::new();
+    match &mut cli.command {
+        None => paths.extend([&mut cli.render.graph, &mut cli.render.scene]),
+        Some(Command::Render(a)) => paths.extend([&mut a.graph, &mut a.scene]),
+        Some(Command::View(a)) => paths.extend([&mut a.graph, &mut a.scene]),
+        Some(Command::Bench(a)) => {
+            paths.push(&mut a.scene);
+            paths.extend(a.graphs.iter_mut().map(|v| &mut v.graph));
+        }
+        _ => {}
+    }
+    paths.retain(|p| **p == graph || **p == scene);
+    if paths.is_empty() {
+        return Ok(None);
+    }
+    remove_runtime_dirs_of_dead_processes();
+    let dir = std::env::temp_dir().join(format!("{BUILTIN_DIR_PREFIX}{}", std::process::id()));
+    passgraph::atomic_write::remove_on_signal(dir.clone());
+    let guard = RuntimeDir(dir.clone());
+    builtin::extract(&dir)
+        .map_err(|e| format!("{}: cannot write the built-in defaults: {e}", dir.display()))?;
+    for p in paths {
+        *p = dir.join(if *p == graph {
+            builtin::GRAPH
+        } else {
+            builtin::SCENE
+        });
+    }
+    Ok(Some(guard))
+}
+
 fn main() -> ExitCode {
     // Parsing first: a usage error or --help exits here, before anything is created.
-    let cli = Cli::parse();
+    let mut cli = Cli::parse();
     let runtime_dir = quiet_mesa_without_a_session();
     if let Err(e) = passgraph::atomic_write::install_signal_cleanup() {
         eprintln!("warning: temporary files will not be removed on Ctrl-C: {e}");
     }
+    let builtin_dir = match builtin_defaults(&mut cli) {
+        Ok(dir) => dir,
+        Err(message) => {
+            eprintln!("error: {message}");
+            drop(runtime_dir);
+            return ExitCode::FAILURE;
+        }
+    };
     let code = match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Usage(message)) => {
@@ -1126,6 +1372,7 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     };
+    drop(builtin_dir);
     drop(runtime_dir);
     code
 }

@@ -24,6 +24,30 @@ fn render(dir: &Path, args: &[&str], out: &str) -> Vec<u8> {
 }
 
 #[test]
+fn a_camera_path_reports_the_frames_of_every_segment() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("path.ron"), PATH).unwrap();
+    let o = passgraph(d, &["--camera-path", "path.ron", "--out", "p.exr"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    // 3 + 4 frames, not the last segment's 4.
+    assert!(stdout.starts_with("7 frames in "), "{stdout}");
+    let o = passgraph(
+        d,
+        &[
+            "--camera-path",
+            "path.ron",
+            "--segment",
+            "2",
+            "--out",
+            "p.exr",
+        ],
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("4 frames in "));
+}
+
+#[test]
 fn a_segment_alone_is_bitwise_the_whole_paths_image_of_it() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -134,10 +134,13 @@ fn plan_and_dot_name_the_file_each_pass_and_resource_came_from() {
     assert_mentions(
         &dot,
         &[
-            "denoise/atrous1\\\\ngraphs/denoiser.ron",
-            "accumulate\\\\ngraphs/pathtracer.ron",
+            "denoise/atrous1\\ngraphs/denoiser.ron",
+            "accumulate\\ngraphs/pathtracer.ron",
         ],
     );
+    // DOT's line break is `\n`; an escaped backslash before it (`\\n`) shows as a literal
+    // "\n" in every node.
+    assert!(!dot.contains("\\\\n"), "{dot}");
     assert!(plan.pass("denoise/remodulate").is_some());
 }
 
@@ -248,6 +251,47 @@ fn a_cycle_of_extends_or_includes_is_an_error_that_shows_the_cycle() {
     )]);
     let (_, msg) = compose_error(&s, "graphs/self.ron");
     assert_mentions(&msg, &["self.ron:1", "include \"self.ron\" makes a cycle"]);
+}
+
+#[test]
+fn a_chain_of_20000_extends_or_5000_includes_is_an_error_not_a_stack_overflow() {
+    let extends: Vec<(String, String)> = (0..20_000)
+        .map(|i| {
+            (
+                format!("graphs/e{i}.ron"),
+                format!("Graph(extends: \"e{}.ron\")", i + 1),
+            )
+        })
+        .collect();
+    let includes: Vec<(String, String)> = (0..5_000)
+        .map(|i| {
+            (
+                format!("graphs/i{i}.ron"),
+                format!("Graph(include: [(file: \"i{}.ron\")], outputs: [])", i + 1),
+            )
+        })
+        .collect();
+    let files: Vec<(&str, &str)> = extends
+        .iter()
+        .chain(&includes)
+        .map(|(n, t)| (n.as_str(), t.as_str()))
+        .collect();
+    let s = project(&files);
+    let (_, msg) = compose_error(&s, "graphs/e0.ron");
+    assert_mentions(
+        &msg,
+        &[
+            "e63.ron:1",
+            "extends \"e64.ron\"",
+            "more than 64 deep",
+            "e0.ron",
+        ],
+    );
+    let (_, msg) = compose_error(&s, "graphs/i0.ron");
+    assert_mentions(
+        &msg,
+        &["i63.ron:1", "include \"i64.ron\"", "more than 64 deep"],
+    );
 }
 
 #[test]

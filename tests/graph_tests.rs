@@ -274,6 +274,17 @@ fn a_malformed_test_file_is_an_error_naming_its_file_and_line() {
             "GraphTests(cases: [])".to_string(),
             &["tests/graphs/bad.ron: no cases"],
         ),
+        // A mistyped frame count that would render for days.
+        (
+            case(&format!(
+                "{GRAPH}\n            scene: \"../../scenes/cornell/scene.ron\",\n            frames: 4294967295,\n            expect: [NoDroppedSamples],"
+            )),
+            &[
+                "tests/graphs/bad.ron:7:",
+                "4294967295 frames x 1 seeds x 32x32 pixels",
+                "more than max_samples (67108864)",
+            ],
+        ),
     ] {
         let line = bad_file(&body);
         assert_mentions(&line, parts);
@@ -325,6 +336,10 @@ fn the_largest_seed_count_is_checked_without_listing_the_seeds() {
         &text[first + "seeds: 16,".len()..]
     );
     std::fs::write(&file, edited).unwrap();
-    let cases = passgraph::graphtest::run::check_file(&file).unwrap();
-    assert!(cases > 0);
+    // Refused as too much work (max_samples), from the counts alone.
+    let e = passgraph::graphtest::run::check_file(&file).unwrap_err();
+    assert!(
+        e.contains("4294967295 seeds") && e.contains("max_samples"),
+        "{e}"
+    );
 }

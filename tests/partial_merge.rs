@@ -680,11 +680,87 @@ fn a_partial_whose_header_disagrees_with_its_data_is_refused() {
         &["edited.exr", "does not match its parts", "damaged"],
     );
     assert_mentions(
-        &edit("format: passgraph partial 1", "format: passgraph partial 2"),
-        &["edited.exr", "this passgraph reads 'passgraph partial 1'"],
+        &edit("format: passgraph partial 2", "format: passgraph partial 3"),
+        &["edited.exr", "this passgraph reads 'passgraph partial 2'"],
     );
     assert_mentions(
         &edit("samples: 0..8", "samples: 8..8"),
         &["edited.exr", "'samples'", "empty sample range"],
+    );
+    // A range shifted, or a dropped count changed, by hand: the checksum no longer matches.
+    assert_mentions(
+        &edit("samples: 0..8", "samples: 8..16"),
+        &[
+            "edited.exr",
+            "checksum does not match",
+            "changed after it was written",
+        ],
+    );
+    assert_mentions(
+        &edit("dropped: 0", "dropped: 18446744073709551614"),
+        &["edited.exr", "checksum does not match"],
+    );
+}
+
+#[test]
+fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.exr");
+    let p = cpu_partial(range(0, 8), 4);
+    p.write(&path).unwrap();
+    // One mean changed in the data, the header kept: the checksum catches it.
+    let mut image = read_all_flat_layers_from_file(&path).unwrap();
+    let channel = image.layer_data[0]
+        .channel_data
+        .list
+        .iter_mut()
+        .find(|c| c.name == *"sum.G")
+        .unwrap();
+    let FlatSamples::F32(values) = &mut channel.sample_data else {
+        panic!("sum.G is f32")
+    };
+    values[2] = f32::from_bits(values[2].to_bits() ^ 1);
+    let flipped = dir.path().join("flipped.exr");
+    image.write().to_file(&flipped).unwrap();
+    assert_mentions(
+        &Partial::read(&flipped).unwrap_err(),
+        &["flipped.exr", "checksum does not match"],
+    );
+    // Files whose checksum was recomputed (as a forger would) still have to add up: counts of
+    // 0 need that many dropped samples, ...
+    let mut zero = p.clone();
+    for plane in &mut zero.planes {
+        plane.count[1] = 0;
+    }
+    zero.write(&path).unwrap();
+    assert_mentions(
+        &Partial::read(&path).unwrap_err(),
+        &[
+            "part.exr",
+            "'dropped' is 0",
+            "leave 8 of the 8 x 4 samples",
+            "0..8",
+        ],
+    );
+    // ... dropped samples beyond the range are not there to drop, ...
+    let mut many = p.clone();
+    many.dropped = u64::MAX - 1;
+    many.write(&path).unwrap();
+    assert_mentions(
+        &Partial::read(&path).unwrap_err(),
+        &["'dropped' is 18446744073709551614", "leave 0"],
+    );
+    // ... and a sample is dropped in every channel or none.
+    let mut uneven = p.clone();
+    uneven.planes[3].count[2] = 7;
+    uneven.dropped = 1;
+    uneven.write(&path).unwrap();
+    assert_mentions(
+        &Partial::read(&path).unwrap_err(),
+        &[
+            "channel 'ambient' counts 7 samples at pixel (2, 0)",
+            "'l0' 8",
+        ],
     );
 }

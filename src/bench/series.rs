@@ -102,6 +102,11 @@ impl Series {
     }
 }
 
+/// The longest time a curve's point may have (11.6 days): beyond any benchmark.
+const MAX_SECONDS: f64 = 1e6;
+/// The largest error a point may have: beyond any image's.
+const MAX_ERROR: f64 = 1e12;
+
 /// The rows of one CSV, keyed by their sample count (the row number if there is no `spp`).
 fn read_mitsuba_csv(path: &Path) -> Result<Vec<(u64, Point)>, String> {
     let text = std::fs::read_to_string(path)
@@ -122,22 +127,36 @@ fn read_mitsuba_csv(path: &Path) -> Result<Vec<(u64, Point)>, String> {
     let mut rows = Vec::new();
     for (i, line) in lines.enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
-        let number = |k: usize| {
-            cells
-                .get(k)
-                .and_then(|c| c.trim().parse::<f64>().ok())
-                .ok_or_else(|| format!("{}:{}: bad number", path.display(), i + 2))
+        // Every number is checked where it is read: an infinite or absurd time would send the
+        // report's tables and chart after it without end.
+        // `positive`: above 0, else from 0; at most `max`, so never infinite.
+        let number = |k: usize, name: &str, positive: bool, max: f64, what: &str| {
+            let cell = cells.get(k).map(|c| c.trim()).unwrap_or("");
+            match cell.parse::<f64>() {
+                Ok(v) if (if positive { v > 0.0 } else { v >= 0.0 }) && v <= max => Ok(v),
+                _ => Err(format!(
+                    "{}:{}: {name} is '{cell}'; it must be {what}",
+                    path.display(),
+                    i + 2
+                )),
+            }
         };
         let key = match spp {
-            Some(k) => number(k)? as u64,
+            Some(k) => number(k, "spp", true, 1e15, "a positive number of samples")? as u64,
             None => i as u64,
         };
         rows.push((
             key,
             Point {
-                seconds: number(s)?,
-                rmse: number(r)?,
-                relmse: number(q)?,
+                seconds: number(
+                    s,
+                    "seconds",
+                    true,
+                    MAX_SECONDS,
+                    "a positive number of seconds up to 1e6",
+                )?,
+                rmse: number(r, "rmse", false, MAX_ERROR, "an error from 0 to 1e12")?,
+                relmse: number(q, "relmse", false, MAX_ERROR, "an error from 0 to 1e12")?,
             },
         ));
     }
@@ -186,6 +205,37 @@ mod tests {
         assert!((s.seconds_to(1e-3).unwrap() - 10.0).abs() < 1e-9);
         assert_eq!(s.relmse_at(1000.0), None);
         assert_eq!(s.seconds_to(1e-5), None);
+    }
+
+    #[test]
+    fn mitsuba_csv_numbers_must_be_finite_and_in_range_naming_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.csv");
+        for (row, expect) in [
+            (
+                "4,inf,0.1,0.01",
+                "m.csv:3: seconds is 'inf'; it must be a positive number of seconds up to 1e6",
+            ),
+            ("4,1e300,0.1,0.01", "m.csv:3: seconds is '1e300'"),
+            ("4,0,0.1,0.01", "m.csv:3: seconds is '0'"),
+            (
+                "4,2.0,NaN,0.01",
+                "m.csv:3: rmse is 'NaN'; it must be an error from 0 to 1e12",
+            ),
+            ("4,2.0,0.1,-1", "m.csv:3: relmse is '-1'"),
+            (
+                "0,2.0,0.1,0.01",
+                "m.csv:3: spp is '0'; it must be a positive number of samples",
+            ),
+        ] {
+            std::fs::write(
+                &path,
+                format!("spp,seconds,rmse,relmse\n1,1.0,0.2,0.04\n{row}\n"),
+            )
+            .unwrap();
+            let e = read_mitsuba_csv(&path).unwrap_err();
+            assert!(e.ends_with(expect) || e.contains(expect), "{row}: {e}");
+        }
     }
 
     #[test]

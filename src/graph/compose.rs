@@ -146,7 +146,11 @@ fn names<'a>(items: impl IntoIterator<Item = &'a String>) -> String {
     list(&items.into_iter().cloned().collect::<Vec<_>>())
 }
 
-/// Reads the file a graph `extends` or `include`s, refusing a cycle.
+/// The longest chain of graphs extending or including one another: far beyond any real
+/// composition, far below a stack overflow (as shader includes: MAX_INCLUDE_DEPTH).
+pub const MAX_COMPOSITION_DEPTH: usize = 64;
+
+/// Reads the file a graph `extends` or `include`s, refusing a cycle and a chain too deep.
 fn follow(
     source: &Source,
     key: &str,
@@ -162,6 +166,17 @@ fn follow(
             format!(
                 "{key} \"{reference}\": no such graph file ({})",
                 path.display()
+            ),
+        ));
+    }
+    // Each link recurses: a bounded chain ends in this error, not a stack overflow.
+    if chain.len() >= MAX_COMPOSITION_DEPTH {
+        return Err(source.error(
+            key,
+            reference,
+            format!(
+                "{key} \"{reference}\": graphs extend or include one another more than {MAX_COMPOSITION_DEPTH} deep (from {}); a chain this long is a mistake (or a generated file): join the files",
+                chain[0].shown.display()
             ),
         ));
     }

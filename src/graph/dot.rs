@@ -6,8 +6,14 @@ use super::interface::Access;
 use super::plan::{Plan, ResourceKind};
 use std::fmt::Write;
 
+/// A DOT string: backslashes and quotes escaped, line breaks as DOT's `\n` (centred lines).
 fn quote(s: &str) -> String {
-    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+    format!(
+        "\"{}\"",
+        s.replace('\\', "\\\\")
+            .replace('"', "\\\"")
+            .replace('\n', "\\n")
+    )
 }
 
 pub fn to_dot(plan: &Plan) -> String {
@@ -30,7 +36,7 @@ pub fn to_dot(plan: &Plan) -> String {
                 } else {
                     "box"
                 },
-                quote(&format!("{}\\n{}", pass.name, pass.origin.file.display()))
+                quote(&format!("{}\n{}", pass.name, pass.origin.file.display()))
             );
         }
         out.push_str("  }\n");
@@ -40,7 +46,7 @@ pub fn to_dot(plan: &Plan) -> String {
             out,
             "  {} [shape=box, style=dashed, color=gray, label={}];",
             quote(&format!("pass:{}", c.name)),
-            quote(&format!("{} (culled)\\n{}", c.name, c.origin.display()))
+            quote(&format!("{} (culled)\n{}", c.name, c.origin.display()))
         );
     }
     for (i, r) in ResourceId::all(plan.resources.len()).zip(&plan.resources) {
@@ -66,8 +72,8 @@ pub fn to_dot(plan: &Plan) -> String {
             "  {} [shape={shape}{style}, label={}];",
             quote(&format!("res:{}", r.name)),
             quote(&match &r.origin {
-                Some(origin) => format!("{}\\n{}\\n{}", r.name, r.kind, origin.display()),
-                None => format!("{}\\n{}", r.name, r.kind),
+                Some(origin) => format!("{}\n{}\n{}", r.name, r.kind, origin.display()),
+                None => format!("{}\n{}", r.name, r.kind),
             })
         );
     }

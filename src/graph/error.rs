@@ -72,9 +72,15 @@ pub enum GraphError {
         message: String,
     },
 
-    #[error("{}: no compute entry point '{entry}' (compute entry points: {})", shader.display(), list(available))]
+    #[error("{}{}: no {stage} entry point '{entry}' ({stage} entry points: {})",
+        match pass_file { Some(p) => format!("{}: pass's shader ", p.display()), None => String::new() },
+        shader.display(), list(available))]
     NoEntryPoint {
+        /// The pass file naming the entry point, once known (see [`GraphError::in_pass_file`]).
+        pass_file: Option<PathBuf>,
         shader: PathBuf,
+        /// `compute`, `vertex` or `fragment`.
+        stage: String,
         entry: String,
         available: Vec<String>,
     },
@@ -280,6 +286,29 @@ pub enum GraphError {
         resource: String,
         reason: String,
     },
+}
+
+impl GraphError {
+    /// The error as seen from the pass file that uses the shader: a missing entry point then
+    /// names the pass file that asked for it.
+    pub fn in_pass_file(self, file: &std::path::Path) -> GraphError {
+        match self {
+            GraphError::NoEntryPoint {
+                pass_file: None,
+                shader,
+                stage,
+                entry,
+                available,
+            } => GraphError::NoEntryPoint {
+                pass_file: Some(file.to_path_buf()),
+                shader,
+                stage,
+                entry,
+                available,
+            },
+            other => other,
+        }
+    }
 }
 
 fn cycle_text(passes: &[String], via: &[String]) -> String {

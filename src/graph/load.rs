@@ -77,9 +77,10 @@ pub fn load_pass(file: &Path) -> Result<LoadedPass, GraphError> {
     check_footprint(file, &decl)?;
     let shader = ShaderSource::load(&shader_path, &shader_root)?;
     let interface = match &decl.raster {
-        Some(raster) => reflect_raster(&shader, &raster.vertex, &raster.fragment)?,
-        None => reflect(&shader, &decl.entry)?,
-    };
+        Some(raster) => reflect_raster(&shader, &raster.vertex, &raster.fragment),
+        None => reflect(&shader, &decl.entry),
+    }
+    .map_err(|e| e.in_pass_file(file))?;
     Ok(LoadedPass {
         file: file.to_path_buf(),
         decl,

@@ -235,7 +235,9 @@ fn reflect_module(
             .find(|(_, ep)| ep.stage == stage && ep.name == entry)
         else {
             return Err(GraphError::NoEntryPoint {
+                pass_file: None,
                 shader: source.path.clone(),
+                stage: format!("{stage:?}").to_lowercase(),
                 entry: entry.to_string(),
                 available: module
                     .entry_points
@@ -1406,10 +1408,15 @@ mod tests {
                 (1, SampleKind::Uint, 2, "vec2<u32>"),
             ]
         );
-        // Entry points are found by stage: a compute entry point is no vertex shader.
-        assert!(matches!(
-            reflect_raster(&source, "main", "fs"),
-            Err(GraphError::NoEntryPoint { .. })
-        ));
+        // Entry points are found by stage: a compute entry point is no vertex shader, and the
+        // message says which stage was looked for.
+        let e = reflect_raster(&source, "main", "fs").unwrap_err();
+        assert!(matches!(e, GraphError::NoEntryPoint { .. }));
+        let e = e.in_pass_file(Path::new("passes/gbuffer.ron")).to_string();
+        assert!(
+            e.starts_with("passes/gbuffer.ron: pass's shader ")
+                && e.contains("no vertex entry point 'main'"),
+            "{e}"
+        );
     }
 }

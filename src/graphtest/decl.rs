@@ -40,7 +40,18 @@ pub struct CaseDecl {
     /// `INSTANCE.PARAM=VALUE` overrides, as `--set`.
     #[serde(default)]
     pub set: Vec<String>,
+    /// The most pixel-samples (frames x seeds x pixels) the case may render: a guard against a
+    /// mistyped `frames` that would run for days; a case that needs more raises it.
+    #[serde(default = "default_max_samples")]
+    pub max_samples: u64,
     pub expect: Vec<Expectation>,
+}
+
+/// 2^26 pixel-samples: 4 seeds of 1024 frames at 128x128, about a minute on lavapipe.
+pub const DEFAULT_MAX_SAMPLES: u64 = 1 << 26;
+
+fn default_max_samples() -> u64 {
+    DEFAULT_MAX_SAMPLES
 }
 
 fn default_size() -> (u32, u32) {

@@ -224,6 +224,17 @@ fn read_case(
             c.name
         ));
     }
+    let samples = u64::from(c.frames) * u64::from(c.seeds) * u64::from(w) * u64::from(h);
+    if renders && samples > c.max_samples {
+        return Err(format!(
+            "{}: case '{}': {} frames x {} seeds x {w}x{h} pixels is {samples} pixel-samples, more than max_samples ({}): lower frames, or raise max_samples if the case needs them",
+            at("frames:"),
+            c.name,
+            c.frames,
+            c.seeds,
+            c.max_samples
+        ));
+    }
     let scene = match c.scene {
         Some(path) => {
             let resolved = dir.join(&path);

@@ -74,11 +74,27 @@ impl RgbImage {
         }
         let img = reader.decode().map_err(|e| cannot(&e))?;
         let rgb = img.to_rgb32f();
-        Ok(RgbImage {
+        let image = RgbImage {
             width: rgb.width(),
             height: rgb.height(),
             pixels: rgb.pixels().map(|p| p.0).collect(),
-        })
+        };
+        // Every error figure would be NaN: refuse it here, before anything is rendered.
+        if let Some(i) = image
+            .pixels
+            .iter()
+            .position(|p| !p.iter().all(|v| v.is_finite()))
+        {
+            let w = image.width.max(1) as usize;
+            return Err(format!(
+                "{}: pixel ({}, {}) is {:?}, not finite; a reference must hold finite values",
+                path.display(),
+                i % w,
+                i / w,
+                image.pixels[i]
+            ));
+        }
+        Ok(image)
     }
 
     /// Writes `.png` (sRGB-encoded, clamped to [0, 1]) or `.exr` (linear float32 RGB).
@@ -167,6 +183,26 @@ mod tests {
         };
         img.write(&path).unwrap();
         assert_eq!(RgbImage::read_exr(&path).unwrap(), img);
+    }
+
+    #[test]
+    fn a_reference_holding_nan_or_infinity_is_refused_naming_the_pixel() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("ref.exr");
+        let mut img = RgbImage {
+            width: 3,
+            height: 2,
+            pixels: vec![[0.5; 3]; 6],
+        };
+        for bad in [f32::NAN, f32::INFINITY] {
+            img.pixels[4] = [0.5, bad, 0.5];
+            img.write(&path).unwrap();
+            let e = RgbImage::read_exr(&path).unwrap_err();
+            assert!(
+                e.contains("ref.exr: pixel (1, 1) is") && e.contains("not finite"),
+                "{e}"
+            );
+        }
     }
 
     #[test]

@@ -4,6 +4,7 @@
 pub mod accumulate;
 pub mod camera_path;
 pub mod channels;
+pub mod checkpoint;
 pub mod fingerprint;
 pub mod image;
 pub mod merge;

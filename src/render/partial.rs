@@ -25,7 +25,7 @@
 //!
 //! | key | value |
 //! | --- | --- |
-//! | `format` | `passgraph partial 1` |
+//! | `format` | `passgraph partial 2` |
 //! | `samples` | the sample range `A..B` (frame indices A to B-1) |
 //! | `size` | `WxH`, which must equal the data window's size |
 //! | `dropped` | samples dropped (non-finite) in the range, over all pixels |
@@ -33,11 +33,15 @@
 //! | `fingerprint.graph`, `fingerprint.scene` | 32 hex digits each |
 //! | `settings` | `size WxH, seed K, max_depth D` |
 //! | `source` | informative: graph and scene as given, the adapter; never compared |
+//! | `checksum` | 32 hex digits: XXH3-128 of every line above but `source`, then each channel's means, compensations and counts (little-endian, channel order as above) |
 //!
 //! (see [`super::fingerprint`] for what the hashes cover). Reading checks all of it and names
 //! the file in every error: unreadable or truncated EXR, not a partial, an unknown version, a
-//! missing or mistyped channel, a size that disagrees, a fingerprint that does not add up,
-//! counts above the range's length, non-finite values.
+//! missing or mistyped channel, a size that disagrees, a fingerprint that does not add up, a
+//! checksum that does not match (an edited header or data, flipped bits), counts above the
+//! range's length or differing between channels, a `dropped` that is not what the counts
+//! leave out of the range, non-finite values. The checksum catches edits and damage, not a
+//! forger who recomputes it: no check without a secret can.
 
 use super::channels::Channel;
 use super::fingerprint::{Fingerprint, hash_text, parse_hash};
@@ -50,7 +54,7 @@ use std::fmt;
 use std::path::Path;
 
 /// The value of `passgraph.format`.
-pub const FORMAT: &str = "passgraph partial 1";
+pub const FORMAT: &str = "passgraph partial 2";
 /// The longest range one render may have: the GPU's f32 sample count is exact below this.
 pub const MAX_RANGE: u32 = 1 << 24;
 
@@ -67,6 +71,7 @@ const ATTR_GRAPH: &str = "fingerprint.graph";
 const ATTR_SCENE: &str = "fingerprint.scene";
 const ATTR_SETTINGS: &str = "settings";
 const ATTR_SOURCE: &str = "source";
+const ATTR_CHECKSUM: &str = "checksum";
 
 /// Frame indices `start..end` of an accumulation (`end` excluded; never empty).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -197,6 +202,35 @@ impl Partial {
             .collect()
     }
 
+    /// The header's fields the checksum covers, in file order.
+    fn checked_fields(&self) -> Vec<(&'static str, String)> {
+        let fp = &self.fingerprint;
+        vec![
+            (ATTR_FORMAT, FORMAT.to_string()),
+            (ATTR_SAMPLES, self.samples.to_string()),
+            (ATTR_SIZE, format!("{}x{}", self.size[0], self.size[1])),
+            (ATTR_DROPPED, self.dropped.to_string()),
+            (ATTR_FINGERPRINT, fp.combined()),
+            (ATTR_GRAPH, hash_text(fp.graph)),
+            (ATTR_SCENE, hash_text(fp.scene)),
+            (ATTR_SETTINGS, fp.settings.replace(['\n', '\r'], " ")),
+        ]
+    }
+
+    /// XXH3-128 of the checked header fields and every plane's data (module documentation).
+    pub fn checksum(&self) -> u128 {
+        let mut h = xxhash_rust::xxh3::Xxh3::new();
+        for (name, value) in self.checked_fields() {
+            h.update(format!("{name}: {value}\n").as_bytes());
+        }
+        for plane in &self.planes {
+            h.update(bytemuck::cast_slice(&plane.mean));
+            h.update(bytemuck::cast_slice(&plane.compensation));
+            h.update(bytemuck::cast_slice(&plane.count));
+        }
+        h.digest128()
+    }
+
     /// The file's bytes.
     pub fn encode(&self) -> Result<Vec<u8>, String> {
         let [w, h] = self.size;
@@ -218,19 +252,11 @@ impl Partial {
             ));
         }
         let mut attributes = LayerAttributes::default();
-        let fp = &self.fingerprint;
         let mut header = String::new();
-        for (name, value) in [
-            (ATTR_FORMAT, FORMAT.to_string()),
-            (ATTR_SAMPLES, self.samples.to_string()),
-            (ATTR_SIZE, format!("{w}x{h}")),
-            (ATTR_DROPPED, self.dropped.to_string()),
-            (ATTR_FINGERPRINT, fp.combined()),
-            (ATTR_GRAPH, hash_text(fp.graph)),
-            (ATTR_SCENE, hash_text(fp.scene)),
-            (ATTR_SETTINGS, fp.settings.clone()),
+        for (name, value) in self.checked_fields().into_iter().chain([
             (ATTR_SOURCE, self.source.clone()),
-        ] {
+            (ATTR_CHECKSUM, hash_text(self.checksum())),
+        ]) {
             // A line each: a value never spans two.
             header += &format!("{name}: {}\n", value.replace(['\n', '\r'], " "));
         }
@@ -400,22 +426,46 @@ impl Partial {
             source,
             planes,
         };
+        // The planes' sizes first: the checksum of planes of the wrong size means nothing.
+        partial.check_sizes()?;
+        let stored = hash(ATTR_CHECKSUM)?;
+        if stored != partial.checksum() {
+            return Err(format!(
+                "the checksum does not match the header and data ({} stored, {} computed): the file was changed after it was written, or damaged",
+                hash_text(stored),
+                hash_text(partial.checksum())
+            ));
+        }
         partial.check()?;
         Ok(partial)
     }
 
-    /// What every partial satisfies: planes of the image's size, finite values, counts no
-    /// larger than the range, a range no longer than counts can hold.
-    fn check(&self) -> Result<(), String> {
+    /// Five planes of the image's size.
+    fn check_sizes(&self) -> Result<(), String> {
         let pixels = self.size[0] as usize * self.size[1] as usize;
         if self.planes.len() != Channel::ALL.len() {
             return Err(format!("{} planes; a partial has 5", self.planes.len()));
         }
         for (c, p) in Channel::ALL.iter().zip(&self.planes) {
-            let name = c.name();
             if p.mean.len() != pixels || p.compensation.len() != pixels || p.count.len() != pixels {
-                return Err(format!("channel '{name}' does not hold {pixels} pixels"));
+                return Err(format!(
+                    "channel '{}' does not hold {pixels} pixels",
+                    c.name()
+                ));
             }
+        }
+        Ok(())
+    }
+
+    /// What every partial satisfies: planes of the image's size, finite values, counts no
+    /// larger than the range and the same in every channel (a dropped sample is dropped for
+    /// the whole pixel: shaders/accumulate.wgsl), `dropped` what the counts leave out of the
+    /// range.
+    fn check(&self) -> Result<(), String> {
+        self.check_sizes()?;
+        let pixels = self.size[0] as usize * self.size[1] as usize;
+        for (c, p) in Channel::ALL.iter().zip(&self.planes) {
+            let name = c.name();
             let bad = p
                 .mean
                 .iter()
@@ -435,6 +485,29 @@ impl Partial {
                     self.samples
                 ));
             }
+            let first = &self.planes[0];
+            if let Some(i) = (0..pixels).find(|&i| p.count[i] != first.count[i]) {
+                return Err(format!(
+                    "channel '{name}' counts {} samples at pixel {} but channel '{}' {}: a dropped sample is dropped in every channel",
+                    p.count[i],
+                    pixel_name(i, self.size[0]),
+                    Channel::ALL[0].name(),
+                    first.count[i]
+                ));
+            }
+        }
+        let missing: u64 = self.planes[0]
+            .count
+            .iter()
+            .map(|&n| u64::from(self.samples.len() - n))
+            .sum();
+        if missing != self.dropped {
+            return Err(format!(
+                "'{ATTR_DROPPED}' is {} but the counts leave {missing} of the {} x {pixels} samples of range {} out",
+                self.dropped,
+                self.samples.len(),
+                self.samples
+            ));
         }
         Ok(())
     }

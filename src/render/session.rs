@@ -3,6 +3,7 @@
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_channel, texture_image};
+use super::partial::Partial;
 use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
@@ -438,6 +439,103 @@ impl Session {
     /// [`Executor::read_resource`]): for graphs with outputs of their own, e.g. test counters.
     pub fn read_resource(&self, name: &str) -> Result<Vec<u8>, RenderError> {
         Ok(self.executor.read_resource(name)?)
+    }
+
+    /// The persistent resources a checkpoint would not hold: a render can be resumed bit for
+    /// bit only when the accumulation (`result`, `compensation`, `dropped`) is all the state
+    /// its frames carry over (ray counts are reporting only). `None` when it is.
+    pub fn state_beyond_accumulation(&self) -> Option<&str> {
+        let counters: Vec<&str> = self
+            .plan
+            .passes
+            .iter()
+            .flat_map(|p| p.bindings.iter())
+            .filter(|b| b.name == RAY_COUNT)
+            .map(|b| self.plan.resources[b.resource].name.as_str())
+            .collect();
+        self.plan
+            .resources
+            .iter()
+            .find(|r| {
+                r.persistent
+                    && r.physical.is_some()
+                    && ![RESULT, COMPENSATION, DROPPED].contains(&r.name.as_str())
+                    && !counters.contains(&r.name.as_str())
+            })
+            .map(|r| r.name.as_str())
+    }
+
+    /// Continues the accumulation a checkpoint holds (a partial file of this render's samples
+    /// `first_sample..first_sample + n`): its means, their rounding errors, counts and dropped
+    /// samples go back into the buffers, and the next frame draws sample `first_sample + n`, so
+    /// the render goes on bit for bit as if it had never stopped. The caller has checked the
+    /// partial's fingerprint against this render's.
+    pub fn resume_from(&mut self, partial: &Partial) -> Result<(), RenderError> {
+        let fail = |why: String| Err(RenderError::Other(why));
+        if partial.size != self.size || self.tile.size != self.tile.image {
+            return fail(format!(
+                "the checkpoint is {}x{}, this render {}x{} (untiled renders only)",
+                partial.size[0], partial.size[1], self.size[0], self.size[1]
+            ));
+        }
+        if partial.samples.start != self.first_sample {
+            return fail(format!(
+                "the checkpoint holds samples {}, but this render starts at sample {}",
+                partial.samples, self.first_sample
+            ));
+        }
+        if let Some(name) = self.state_beyond_accumulation() {
+            return fail(format!(
+                "graph {} keeps state in '{name}' from frame to frame, which a checkpoint does not hold",
+                self.plan.graph.display()
+            ));
+        }
+        let Ok(dropped) = u32::try_from(partial.dropped) else {
+            return fail(format!(
+                "the checkpoint's {} dropped samples exceed the u32 counter",
+                partial.dropped
+            ));
+        };
+        let done = partial.samples.len();
+        if done > self.max_frames {
+            return fail(format!(
+                "the checkpoint holds {done} frames, more than the {} this render has",
+                self.max_frames
+            ));
+        }
+        let compensation: Vec<[f32; 4]> = partial
+            .planes
+            .iter()
+            .flat_map(|p| p.compensation.iter().map(|c| [c[0], c[1], c[2], 0.0]))
+            .collect();
+        self.write_leading(RESULT, bytemuck::cast_slice(&partial.to_result()))?;
+        self.write_leading(COMPENSATION, bytemuck::cast_slice(&compensation))?;
+        self.write_leading(DROPPED, &dropped.to_le_bytes())?;
+        self.accumulated = done;
+        self.index = done;
+        self.previous_camera = Some(self.gpu_camera());
+        Ok(())
+    }
+
+    /// Writes `bytes` at the start of a graph buffer, zeros after them (a graph may declare
+    /// its buffers larger than the contract's minimum).
+    fn write_leading(&mut self, name: &str, bytes: &[u8]) -> Result<(), RenderError> {
+        let size = self
+            .plan
+            .resources
+            .iter()
+            .find(|r| r.name == name)
+            .map(|r| r.kind.bytes())
+            .ok_or_else(|| RenderError::Other(format!("the graph has no '{name}' buffer")))?;
+        if bytes.len() as u64 > size {
+            return Err(RenderError::Other(format!(
+                "'{name}' holds {size} bytes; the checkpoint has {} for it",
+                bytes.len()
+            )));
+        }
+        let mut all = bytes.to_vec();
+        all.resize(size as usize, 0);
+        Ok(self.executor.write_resource(name, &all)?)
     }
 
     /// Samples dropped so far because a channel was NaN or infinite.

@@ -74,6 +74,31 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
+/// The decoder's error in one human line: what could not be done and why, without the
+/// decoder's internal wording ("Format error decoding Png: CRC error: expected 0x...").
+fn decoding_error(e: &image::ImageError) -> String {
+    use image::ImageError;
+    match e {
+        ImageError::Decoding(d) => {
+            let format = match d.format_hint() {
+                image::error::ImageFormatHint::Exact(f) => format!("{f:?}").to_uppercase(),
+                _ => "image".to_string(),
+            };
+            format!("not a readable {format} file: it is damaged, truncated or not a {format} image")
+        }
+        ImageError::Unsupported(_) => {
+            "an image format or variant this reader does not support (PNG, JPEG, OpenEXR and Radiance .hdr are read)".to_string()
+        }
+        ImageError::Limits(_) => "the image is too large to decode".to_string(),
+        // Decoding reads bytes already in memory: an I/O error is data that ends too soon.
+        ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            "the image file ends early: it is truncated".to_string()
+        }
+        ImageError::IoError(io) => io.to_string(),
+        other => other.to_string(),
+    }
+}
+
 impl Texture {
     /// Reads a PNG or JPEG. Integer images are normalised to [0, 1] and, for
     /// [`Encoding::Srgb`], decoded from sRGB (alpha stays linear); float images are linear.
@@ -86,7 +111,7 @@ impl Texture {
     /// Decodes an image file's bytes (PNG, JPEG, EXR, HDR: by their content) as [`Texture::load`]
     /// does; `path` names where they came from.
     pub fn decode(bytes: &[u8], path: &Path, encoding: Encoding) -> Result<Texture, String> {
-        let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
+        let image = image::load_from_memory(bytes).map_err(|e| decoding_error(&e))?;
         let integer = !matches!(
             image.color(),
             image::ColorType::Rgb32F | image::ColorType::Rgba32F
@@ -229,6 +254,24 @@ mod tests {
                 [1.0, 1.0, 1.0, 1.0],
             ],
         )
+    }
+
+    #[test]
+    fn a_damaged_png_is_one_human_line_not_the_decoders_internals() {
+        let mut png = Vec::new();
+        image::RgbaImage::from_pixel(4, 4, image::Rgba([10, 20, 30, 255]))
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .unwrap();
+        // A flipped byte in the image data: its chunk's CRC no longer matches.
+        let at = png.len() - 20;
+        png[at] ^= 0x40;
+        let e = Texture::decode(&png, Path::new("wall.png"), Encoding::Srgb).unwrap_err();
+        assert_eq!(
+            e,
+            "not a readable PNG file: it is damaged, truncated or not a PNG image"
+        );
+        let e = Texture::decode(&png[..30], Path::new("wall.png"), Encoding::Srgb).unwrap_err();
+        assert_eq!(e, "the image file ends early: it is truncated");
     }
 
     #[test]
