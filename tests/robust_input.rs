@@ -691,6 +691,71 @@ fn non_finite_params_are_rejected_from_set_graph_and_pass_file() {
     );
 }
 
+#[test]
+fn params_outside_their_declared_range_are_refused_naming_param_value_and_range() {
+    let fused = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs/pathtracer-fused.ron");
+    for (set, range) in [
+        ("path.samples_per_frame=0", "1 to 256"),
+        ("path.light_samples=4294967295", "1 to 256"),
+        ("path.bounces=0", "1 to 256"),
+        ("path.sampler_kind=7", "0 to 1"),
+    ] {
+        refused_before_rendering(
+            &["--graph", fused, "--set", set],
+            1,
+            &[set, "outside the param's range", range, "passes/path.ron"],
+        );
+    }
+    refused_before_rendering(
+        &["--set", "indirect.bounces=0"],
+        1,
+        &["indirect.bounces=0", "1 to 256", "passes/indirect.ron"],
+    );
+    refused_before_rendering(
+        &["--set", "direct.light_samples=0"],
+        1,
+        &["direct.light_samples=0", "1 to 256"],
+    );
+    // In a graph file: the error names it and the pass file that declares the range.
+    let p = Project::new();
+    p.edit(
+        GRAPH,
+        r#"(name: "ambient", pass: "ambient", bind: {"#,
+        r#"(name: "ambient", pass: "ambient", params: { "radius": F32(-1.0) }, bind: {"#,
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &[
+            "pathtracer.ron: pass 'ambient': param 'radius' is -1, outside its range 0 to",
+            "passes/ambient.ron",
+        ],
+    );
+    // A range that does not hold its own default, or names no param, is the pass file's error.
+    let p = Project::new();
+    p.edit(
+        "passes/ambient.ron",
+        "\"sampler_kind\": (0, 1)",
+        "\"sampler_kind\": (2, 3)",
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["ambient.ron: `ranges`: 'sampler_kind': its default U32(1) lies outside (2, 3)"],
+    );
+    let p = Project::new();
+    p.edit(
+        "passes/ambient.ron",
+        "\"sampler_kind\": (0, 1)",
+        "\"sampler\": (0, 1)",
+    );
+    fails(
+        &["check", &p.arg(GRAPH)],
+        1,
+        &["ambient.ron: `ranges`: 'sampler' is not a param of this pass"],
+    );
+}
+
 const SCENE: &str = "scenes/cornell/scene.ron";
 const OBJ: &str = "scenes/cornell/cornell.obj";
 

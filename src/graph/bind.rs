@@ -47,6 +47,31 @@ pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<()
             value: format!("{value:?}"),
         });
     }
+    for (name, &(min, max)) in &pass.decl.ranges {
+        let bad = |reason: String| GraphError::BadParamRange {
+            file: pass.file.clone(),
+            reason,
+        };
+        let Some(default) = declared.get(name) else {
+            return Err(bad(format!("'{name}' is not a param of this pass")));
+        };
+        if default.scalar().is_none() {
+            return Err(bad(format!(
+                "'{name}' is a {}; only f32, u32 and i32 params have ranges",
+                default.ty()
+            )));
+        }
+        if !(min.is_finite() && max.is_finite() && min <= max) {
+            return Err(bad(format!(
+                "'{name}': ({min}, {max}) is not a range (finite, min <= max)"
+            )));
+        }
+        if !default.within((min, max)) {
+            return Err(bad(format!(
+                "'{name}': its default {default:?} lies outside ({min}, {max})"
+            )));
+        }
+    }
     let wrong_type = |param: &str, expected: String, found: &ParamValue| GraphError::ParamType {
         file: pass.file.clone(),
         pass: pass
@@ -395,6 +420,21 @@ fn resolve_params(
                 expected: default.ty().to_string(),
                 found: value.ty().to_string(),
                 expected_where: pass.file.display().to_string(),
+            });
+        }
+        if let Some(&(min, max)) = pass.decl.ranges.get(name)
+            && !value.within((min, max))
+        {
+            return Err(GraphError::ParamOutOfRange {
+                file: graph_file.to_path_buf(),
+                pass: instance.name.clone(),
+                pass_file: pass.file.clone(),
+                param: name.clone(),
+                value: value
+                    .scalar()
+                    .map_or(format!("{value:?}"), |v| v.to_string()),
+                min,
+                max,
             });
         }
         *default = value.clone();

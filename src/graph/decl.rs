@@ -20,6 +20,11 @@ pub struct PassDecl {
     pub dispatch: Dispatch,
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamValue>,
+    /// The values a scalar param may take, `(min, max)` inclusive: a graph or `--set` value
+    /// outside is an error naming the param, the value and the range (e.g. a sample count of 0
+    /// that renders black, or of 2^32 - 1 that never finishes a frame).
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub ranges: BTreeMap<String, (f64, f64)>,
     /// A raster pass: vertex and fragment entry points drawing into attachments (then
     /// `entry` and `dispatch` are unused).
     #[serde(default, deserialize_with = "plain_option")]

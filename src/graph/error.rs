@@ -250,6 +250,20 @@ pub enum GraphError {
     #[error("{}: no pass writes output '{output}'", graph.display())]
     OutputNotWritten { graph: PathBuf, output: String },
 
+    #[error("{}: pass '{pass}': param '{param}' is {value}, outside its range {min} to {max} (declared in {})", file.display(), pass_file.display())]
+    ParamOutOfRange {
+        file: PathBuf,
+        pass: String,
+        pass_file: PathBuf,
+        param: String,
+        value: String,
+        min: f64,
+        max: f64,
+    },
+
+    #[error("{}: `ranges`: {reason}", file.display())]
+    BadParamRange { file: PathBuf, reason: String },
+
     #[error("{}: pass '{pass}': param '{param}' is {value}, which is not finite; a param must be a finite number", file.display())]
     NonFiniteParam {
         file: PathBuf,

@@ -52,6 +52,21 @@ impl ParamValue {
         }
     }
 
+    /// The value of a scalar param as a number (for its range); `None` for bools and vectors.
+    pub fn scalar(&self) -> Option<f64> {
+        match *self {
+            ParamValue::F32(x) => Some(f64::from(x)),
+            ParamValue::U32(x) => Some(f64::from(x)),
+            ParamValue::I32(x) => Some(f64::from(x)),
+            _ => None,
+        }
+    }
+
+    /// Whether the value lies in `range` (min, max inclusive); non-scalars always do.
+    pub fn within(&self, (min, max): (f64, f64)) -> bool {
+        self.scalar().is_none_or(|v| min <= v && v <= max)
+    }
+
     /// Little-endian bytes as WGSL lays the value out in a uniform block.
     pub fn to_le_bytes(&self) -> Vec<u8> {
         let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect();

@@ -83,6 +83,15 @@ pub fn set_param(graph: &mut LoadedGraph, assignment: &str) -> Result<(), GraphE
             "'{text}' is not finite; a param must be a finite number"
         )));
     }
+    let pass = &graph.passes[pass_name];
+    if let Some(&(min, max)) = pass.decl.ranges.get(param)
+        && !value.within((min, max))
+    {
+        return Err(invalid(format!(
+            "'{text}' is outside the param's range {min} to {max} (declared in {})",
+            pass.file.display()
+        )));
+    }
     graph.decl.passes[index]
         .params
         .insert(param.to_string(), value);
