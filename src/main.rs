@@ -1224,7 +1224,6 @@ fn quiet_mesa_without_a_session() -> Option<RuntimeDir> {
     if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
         return None;
     }
-    remove_runtime_dirs_of_dead_processes();
     let dir = std::env::temp_dir().join(format!("{RUNTIME_DIR_PREFIX}{}", std::process::id()));
     #[cfg(unix)]
     let made = {
@@ -1330,7 +1329,6 @@ fn builtin_defaults(cli: &mut Cli) -> Result<Option<RuntimeDir>, String> {
     if paths.is_empty() {
         return Ok(None);
     }
-    remove_runtime_dirs_of_dead_processes();
     let dir = std::env::temp_dir().join(format!("{BUILTIN_DIR_PREFIX}{}", std::process::id()));
     passgraph::atomic_write::remove_on_signal(dir.clone());
     let guard = RuntimeDir(dir.clone());
@@ -1349,6 +1347,7 @@ fn builtin_defaults(cli: &mut Cli) -> Result<Option<RuntimeDir>, String> {
 fn main() -> ExitCode {
     // Parsing first: a usage error or --help exits here, before anything is created.
     let mut cli = Cli::parse();
+    remove_runtime_dirs_of_dead_processes();
     let runtime_dir = quiet_mesa_without_a_session();
     if let Err(e) = passgraph::atomic_write::install_signal_cleanup() {
         eprintln!("warning: temporary files will not be removed on Ctrl-C: {e}");
