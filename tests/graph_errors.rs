@@ -748,7 +748,7 @@ fn fragment_output_without_attachment_is_an_error() {
 }
 
 #[test]
-fn loaded_attachment_is_read_so_it_needs_an_earlier_write() {
+fn loaded_attachment_is_read_so_it_needs_an_earlier_write_and_the_error_names_the_attachment() {
     // `load: Load` reads what the attachment held: a transient texture nobody wrote.
     let s = Scratch::new();
     s.edit(
@@ -758,7 +758,12 @@ fn loaded_attachment_is_read_so_it_needs_an_earlier_write() {
     );
     let (e, msg) = s.error(RASTER);
     assert!(matches!(e, GraphError::ReadBeforeWrite { .. }), "{msg}");
-    assert_mentions(&msg, &["pass 'draw'"]);
+    // Before: "reads 'depth' (binding '')": an attachment is not a binding.
+    assert_mentions(
+        &msg,
+        &["pass 'draw'", "'depth'", "attachment 'depth'", "load: Load"],
+    );
+    assert!(!msg.contains("binding ''"), "{msg}");
 }
 
 #[test]

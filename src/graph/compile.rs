@@ -81,11 +81,7 @@ pub fn compile(
             } => GraphError::ReadBeforeWrite {
                 graph: graph.pass_origin(&decl.passes[pass].name).file,
                 pass: name(pass),
-                binding: bound[pass]
-                    .bindings
-                    .iter()
-                    .find(|b| b.resource == resource)
-                    .map_or(String::new(), |b| b.name.clone()),
+                through: reading_binding(&bound[pass], resource),
                 resource: res(resource),
                 later_writer: later_writer.map(name),
             },
@@ -419,4 +415,23 @@ fn allocate_physical(
         }
     }
     physical
+}
+
+/// What a pass reads a resource through: a shader binding, or a raster attachment, which has
+/// no binding (its `load: Load` reads it).
+fn reading_binding(pass: &BoundPass, resource: ResourceId) -> String {
+    if let Some(b) = pass.bindings.iter().find(|b| b.resource == resource) {
+        return format!("binding '{}'", b.name);
+    }
+    let raster = pass.raster.as_ref();
+    let attachment = raster.and_then(|r| {
+        r.color
+            .iter()
+            .chain(r.depth.iter())
+            .find(|(_, id)| *id == resource)
+    });
+    attachment.map_or_else(
+        || "a use the plan does not name".to_string(),
+        |(name, _)| format!("attachment '{name}', whose load: Load reads it"),
+    )
 }

@@ -209,7 +209,7 @@ pub enum GraphError {
         reason: String,
     },
 
-    #[error("{}: pass '{pass}' reads '{resource}' (binding '{binding}') before any pass writes it{}",
+    #[error("{}: pass '{pass}' reads '{resource}' ({through}) before any pass writes it{}",
         graph.display(),
         match later_writer {
             Some(w) => format!("; pass '{w}' writes it later: list '{w}' before '{pass}', or declare '{resource}' persistent: true to read the previous frame's value"),
@@ -219,7 +219,8 @@ pub enum GraphError {
         graph: PathBuf,
         pass: String,
         resource: String,
-        binding: String,
+        /// What reads it: "binding 'src'" or "attachment 'depth', loaded".
+        through: String,
         later_writer: Option<String>,
     },
 
