@@ -281,13 +281,12 @@ fn a_textured_spot_projects_its_image_in_mitsubas_lookat_frame() {
                 * (RHO / std::f32::consts::PI)
                 * (to.y / r2.sqrt())
                 / r2;
-            // On the ramp: the light is seen from the shading point offset by 2^-16 along the
-            // normal (offset_ray near the origin), which turns the direction by up to
-            // 2^-16 / r rad, plus a few ulps of the angle (1e-6), over the ramp's 15 degrees.
+            // On the ramp: a few ulps of the angle (1e-6) over the ramp's 15 degrees (the light
+            // is seen from the shading point itself, not from the ray origin moved off it).
             // Everywhere: the uv's f32 rounding through the bilinear weights, a few ulps of uv
             // (1e-7) times the texel steps (< 1) times the size (4).
             let ramp = if falloff < 1.0 {
-                ((1.0 / 65536.0) / r2.sqrt() + 1e-6) / 15f32.to_radians()
+                1e-6 / 15f32.to_radians()
             } else {
                 0.0
             };

@@ -65,7 +65,7 @@ fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> Li
     let d2 = dot(to_light, to_light);
     let wi = to_light * inverseSqrt(d2);
     // The shadow ray ends just short of the sample point moved off the light, to its front
-    // (the side this point is on), by offset_ray's few hundred ulps: q is rounded by a few ulps
+    // (the side this point is on), by offset_ray's 16 ulps: q is rounded by a few ulps
     // of its coordinates, which far from the origin (1e5) can put it behind the light's plane,
     // and the light would occlude itself.
     let end = offset_ray(q, nl);
@@ -75,18 +75,21 @@ fn sample_light(s: Surface, origin: vec3<f32>, light: Light, u: vec2<f32>) -> Li
     return LightSample(end, wi, cos_x, cos_y, cos_x * cos_y / d2 * area);
 }
 
-// The solid-angle density with which sample_light picks the direction wi from `origin` toward
-// the point q of `light` (q on its front face): what multiple importance sampling weighs a
-// BSDF-sampled ray that hits the light against.
-fn light_pdf(origin: vec3<f32>, light: Light, q: vec3<f32>, wi: vec3<f32>) -> f32 {
-    let r = light_solid_angle_rectangle(origin, light);
+// The solid-angle density with which sample_light picks the direction wi from the point x, a
+// direction that meets `light`'s front face: what multiple importance sampling weighs a
+// BSDF-sampled ray that hit the light against. That ray started at an offset origin; the
+// distance is taken from x along wi to the light's plane, where light sampling from x would
+// have put the point.
+fn light_pdf(x: vec3<f32>, light: Light, wi: vec3<f32>) -> f32 {
+    let r = light_solid_angle_rectangle(x, light);
     if r.solid_angle > 0.0 {
         return 1.0 / r.solid_angle;
     }
     let c = cross(light.e1, light.e2);
     let twice = length(c);
+    let nl = c / twice;
     let area = select(0.5 * twice, twice, light.second != LIGHT_NO_TRIANGLE);
-    let cos_y = -dot(c / twice, wi);
-    let to_light = q - origin;
-    return select(0.0, dot(to_light, to_light) / (cos_y * area), cos_y > 0.0);
+    let cos_y = -dot(nl, wi);
+    let t = dot(x - light.p0, nl) / cos_y;
+    return select(0.0, t * t / (cos_y * area), cos_y > 0.0 && t > 0.0);
 }

@@ -15,8 +15,8 @@ struct LightChoice {
     pmf: f32,
 }
 
-// The unnormalised probability of light i from `origin` (the offset shading point) with
-// normal n. Exactly 0 only where the light cannot contribute at all: the point lies on or
+// The unnormalised probability of light i from `origin` (the shading point, from which
+// nee.wgsl samples the light) with normal n. Exactly 0 only where the light cannot contribute at all: the point lies on or
 // behind the light's plane (emission is one-sided), or the whole light lies on or below the
 // point's tangent plane. The squared distance to the centroid is clamped below by the area so
 // that a point next to a light does not give it an unbounded weight.

@@ -11,7 +11,7 @@ fn shade_ambient(ray: Primary, source: SampleSource, color: vec3<f32>, radius: f
     let s = surface_at(scene_triangle(triangles, ray.triangle), ray.u, ray.v, ray.dir);
     let u = sample_2d(source, DIM_AMBIENT);
     let d = sample_cosine(s.n, u.x, u.y);
-    if any_hit(offset_ray(s.p, s.n), d, 0.0, radius) {
+    if any_hit(ray_origin(s, s.n), d, 0.0, radius) {
         return vec3<f32>(0.0);
     }
     return scene_face_material(materials, s.material, s.front).kd * color;

@@ -102,5 +102,5 @@ fn point_sample(p: ShadingPoint, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> Bs
 // The origin of a ray leaving s toward wi: moved off the surface to wi's side (transmitted
 // rays leave from the other side).
 fn leaving(s: Surface, wi: vec3<f32>) -> vec3<f32> {
-    return offset_ray(s.p, select(-s.n, s.n, dot(s.n, wi) >= 0.0));
+    return ray_origin(s, select(-s.n, s.n, dot(s.n, wi) >= 0.0));
 }
