@@ -1,4 +1,5 @@
 // The shading point of a hit.
+#include "sampling.wgsl"
 
 // pbrt's gamma(7) = 7 u / (1 - 7 u), u = 2^-24: the relative error bound of the barycentric
 // point's roundings (PBR 3rd ed., section 3.9.6).
