@@ -98,6 +98,47 @@ fn dot_writes_a_whole_file() {
 }
 
 #[test]
+fn dot_labels_render_in_graphviz_as_lines_not_as_a_literal_backslash_n() {
+    // Graphviz itself draws the file (scripts/setup installs it): each node's name and its
+    // graph file are lines of their own. Before, the labels held "\\n", drawn as "\n".
+    let graph = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pathtracer.ron");
+    let out = passgraph(&["dot", graph.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let mut dot = Command::new("dot")
+        .arg("-Tsvg")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("Graphviz's `dot` runs (scripts/setup installs the graphviz package)");
+    use std::io::Write;
+    dot.stdin.take().unwrap().write_all(&out.stdout).unwrap();
+    let svg = dot.wait_with_output().unwrap();
+    assert!(svg.status.success(), "{}", text(&svg.stderr));
+    let svg = text(&svg.stdout);
+    // The text of every <text> element: one drawn line each.
+    let lines: Vec<&str> = svg
+        .split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            t.split_once('>')
+                .and_then(|(_, rest)| rest.split_once("</text>"))
+        })
+        .map(|(line, _)| line)
+        .collect();
+    assert!(
+        lines.iter().all(|l| !l.contains("\\n")),
+        "a label shows a literal \\n: {lines:?}"
+    );
+    for line in ["intersect", "direct", "accumulate"] {
+        assert!(lines.contains(&line), "no drawn line '{line}' in {lines:?}");
+    }
+    assert!(
+        lines.iter().any(|l| l.ends_with("graphs/pathtracer.ron")),
+        "no drawn line with the graph file in {lines:?}"
+    );
+}
+
+#[test]
 fn bad_size_is_a_usage_error_not_a_panic() {
     let graph = fixtures().join("graphs/seed.ron");
     let out = passgraph(&["plan", graph.to_str().unwrap(), "--size", "0x12"]);

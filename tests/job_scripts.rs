@@ -42,7 +42,16 @@ fn a_chunk_refuses_render_options_that_are_the_jobs_own_before_rendering() {
         // A passgraph that does not exist: the script must stop before it would run it.
         let result = run(
             "jobs/slurm/render.sbatch",
-            &["4", "64", dir, "/nonexistent/passgraph", "--size", "8x8", option, "x.exr"],
+            &[
+                "4",
+                "64",
+                dir,
+                "/nonexistent/passgraph",
+                "--size",
+                "8x8",
+                option,
+                "x.exr",
+            ],
             &[("SLURM_ARRAY_TASK_ID", "1")],
         );
         let err = stderr(&result);

@@ -223,7 +223,7 @@ fn readme_and_ci_run_the_same_setup_and_test_command() {
 }
 
 /// Every package the set-up looks for, as `dpkg-query` lists it when installed.
-const ALL_PRESENT: [(&str, &str); 8] = [
+const ALL_PRESENT: [(&str, &str); 9] = [
     ("mesa-vulkan-drivers:amd64", "25.0.7-2~bpo12+1"),
     ("fonts-dejavu-core", "2.37-6"),
     ("xvfb", "2:21.1.7-3+deb12u13"),
@@ -232,6 +232,7 @@ const ALL_PRESENT: [(&str, &str); 8] = [
     ("libxcursor1:amd64", "1:1.2.1-1"),
     ("libxi6:amd64", "2:1.8-1+b1"),
     ("libxkbcommon-x11-0:amd64", "1.5.0-1"),
+    ("graphviz", "2.42.2-7+deb12u1"),
 ];
 
 /// A machine for `scripts/setup`: release `codename`, `installed` packages (a stand-in
@@ -403,7 +404,7 @@ fn a_fresh_bookworm_gets_mesa_from_backports_and_the_rest_from_its_release() {
     assert!(
         out.contains("-t bookworm-backports mesa-vulkan-drivers\n")
             && out.contains(
-                "install -y -qq --no-install-recommends fonts-dejavu-core xvfb libx11-6 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0"
+                "install -y -qq --no-install-recommends fonts-dejavu-core xvfb libx11-6 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0 graphviz"
             ),
         "{out}"
     );
@@ -471,7 +472,7 @@ fn it_installs_what_is_missing_through_apt_get() {
     assert!(ok, "{out}");
     assert_eq!(
         machine.apt_calls(),
-        "update -qq\ninstall -y -qq --no-install-recommends libxkbcommon-x11-0\n"
+        "update -qq\ninstall -y -qq --no-install-recommends libxkbcommon-x11-0 graphviz\n"
     );
     assert_eq!(machine.added_entry(), None, "Mesa 25 is there");
 }
