@@ -36,7 +36,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let q = queries[i];
-    let s = Surface(q.origin, q.normal, true, 0u);
+    let s = Surface(q.origin, q.normal, true, 0u, 0.0);
     var sum = 0.0;
     var sum_square = 0.0;
     var rejected = 0u;
