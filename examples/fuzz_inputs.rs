@@ -497,7 +497,7 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
 /// A small partial file of samples `range` (8x4 pixels, one sample dropped at the first pixel
 /// of the second range): the fuzzer's donor for partial files and checkpoints.
 fn partial(range: std::ops::Range<u32>) -> Vec<u8> {
-    use passgraph::render::partial::{Partial, Plane, SampleRange};
+    use passgraph::render::partial::{Packing, Partial, Plane, SampleRange};
     let pixels = 32;
     let dropped = u32::from(range.start > 0);
     let count: Vec<u32> = (0..pixels)
@@ -523,7 +523,7 @@ fn partial(range: std::ops::Range<u32>) -> Vec<u8> {
         source: "fuzz".into(),
         planes: vec![plane; 5],
     }
-    .encode()
+    .encode(Packing::Small)
     .unwrap()
 }
 

@@ -8,7 +8,7 @@ use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::checkpoint::{Checkpoints, accumulation, resume};
 use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::image::{RgbImage, check_output_path};
-use passgraph::render::partial::{MAX_RANGE, SampleRange};
+use passgraph::render::partial::{MAX_RANGE, Packing, SampleRange};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
@@ -888,7 +888,7 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         .collect();
     if let (Some(first), Some(fingerprint)) = (accumulation_outputs.first(), &fingerprint) {
         let bytes = accumulation(render.session(), range.start, fingerprint, &source)
-            .and_then(|partial| partial.encode())
+            .and_then(|partial| partial.encode(Packing::Small))
             .map_err(|e| format!("{}: {e}", first.display()))?;
         for path in accumulation_outputs {
             encoded.push((path.as_path(), bytes.clone()));
@@ -1007,7 +1007,7 @@ fn merge(args: MergeArgs) -> Result<(), Failure> {
         encoded.push((
             path.as_path(),
             merged
-                .encode()
+                .encode(Packing::Small)
                 .map_err(|e| format!("{}: {e}", path.display()))?,
         ));
     }

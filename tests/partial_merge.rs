@@ -13,7 +13,7 @@ use passgraph::render::accumulate::CompensatedMean;
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::merge::merge;
-use passgraph::render::partial::{Partial, Plane, SampleRange};
+use passgraph::render::partial::{Packing, Partial, Plane, SampleRange};
 use passgraph::render::session::{RenderSettings, Session};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -165,10 +165,16 @@ fn four_ranges_of_16_merge_to_the_independent_render_of_64_within_the_bound() {
 #[test]
 fn merge_is_bitwise_identical_whatever_the_order_and_hierarchy() {
     let ranges = &renders(1)[1..];
-    let reference = merge(unnamed(ranges)).unwrap().encode().unwrap();
+    let reference = merge(unnamed(ranges))
+        .unwrap()
+        .encode(Packing::Small)
+        .unwrap();
     for order in [[3, 1, 0, 2], [2, 3, 1, 0], [0, 1, 2, 3], [3, 2, 1, 0]] {
         let shuffled: Vec<Partial> = order.iter().map(|&i| ranges[i].clone()).collect();
-        let bytes = merge(unnamed(&shuffled)).unwrap().encode().unwrap();
+        let bytes = merge(unnamed(&shuffled))
+            .unwrap()
+            .encode(Packing::Small)
+            .unwrap();
         assert!(bytes == reference, "order {order:?} merges to other bytes");
     }
     // Merging the files, one in memory at a time, gives the same bytes.
@@ -176,11 +182,11 @@ fn merge_is_bitwise_identical_whatever_the_order_and_hierarchy() {
     let mut paths = Vec::new();
     for p in ranges.iter().rev() {
         let path = dir.path().join(format!("{}.exr", p.samples));
-        p.write(&path).unwrap();
+        p.write(&path, Packing::Small).unwrap();
         paths.push(path);
     }
     let from_files = passgraph::render::merge::merge_files(&paths).unwrap();
-    assert!(from_files.encode().unwrap() == reference);
+    assert!(from_files.encode(Packing::Small).unwrap() == reference);
     // A merged partial merges again: (0..16 + 16..32) + (32..48 + 48..64) has the flat
     // merge's counts and is within a rounding of it (each level rounds t to f32 + f32).
     let low = merge(unnamed(&ranges[..2])).unwrap();
@@ -195,11 +201,12 @@ fn merge_is_bitwise_identical_whatever_the_order_and_hierarchy() {
 }
 
 #[test]
-fn a_partial_file_round_trips_exactly() {
+fn a_partial_file_round_trips_exactly_zip_or_rle_packed() {
     let dir = tempfile::tempdir().unwrap();
-    for p in &renders(1)[1..3] {
+    let packings = [Packing::Small, Packing::Fast];
+    for (p, packing) in renders(1)[1..3].iter().zip(packings) {
         let path = dir.path().join(format!("{}.exr", p.samples.start));
-        p.write(&path).unwrap();
+        p.write(&path, packing).unwrap();
         let back = Partial::read(&path).unwrap();
         // Bit for bit (PartialEq on f32 would take -0.0 for 0.0).
         assert_eq!(back.samples, p.samples);
@@ -388,7 +395,7 @@ fn reading_refuses_truncated_foreign_and_inconsistent_files_naming_them() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("part.exr");
     let p = cpu_partial(range(0, 8), 64);
-    p.write(&path).unwrap();
+    p.write(&path, Packing::Small).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     for cut in [bytes.len() / 2, bytes.len() - 1, 40, 0] {
         let truncated = dir.path().join(format!("cut{cut}.exr"));
@@ -410,7 +417,7 @@ fn reading_refuses_truncated_foreign_and_inconsistent_files_naming_them() {
     // A count above the range's length, or a damaged fingerprint, is caught on reading.
     let mut bad = p.clone();
     bad.planes[2].count[5] = 9;
-    bad.write(&path).unwrap();
+    bad.write(&path, Packing::Small).unwrap();
     assert_mentions(
         &Partial::read(&path).unwrap_err(),
         &["part.exr", "'indirect' counts 9", "(5, 0)", "0..8"],
@@ -427,7 +434,9 @@ fn a_partial_missing_a_channel_is_refused_naming_it() {
     use exr::prelude::*;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("part.exr");
-    cpu_partial(range(0, 8), 4).write(&path).unwrap();
+    cpu_partial(range(0, 8), 4)
+        .write(&path, Packing::Small)
+        .unwrap();
     // Rewrite the file without one channel, keeping every attribute.
     let mut image = read_all_flat_layers_from_file(&path).unwrap();
     image.layer_data[0]
@@ -652,7 +661,9 @@ fn a_partial_whose_header_disagrees_with_its_data_is_refused() {
     use exr::prelude::*;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("part.exr");
-    cpu_partial(range(0, 8), 4).write(&path).unwrap();
+    cpu_partial(range(0, 8), 4)
+        .write(&path, Packing::Small)
+        .unwrap();
     // Edit one line of the header attribute, keeping the pixels.
     let edit = |from: &str, to: &str| {
         let mut image = read_all_flat_layers_from_file(&path).unwrap();
@@ -708,7 +719,7 @@ fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("part.exr");
     let p = cpu_partial(range(0, 8), 4);
-    p.write(&path).unwrap();
+    p.write(&path, Packing::Small).unwrap();
     // One mean changed in the data, the header kept: the checksum catches it.
     let mut image = read_all_flat_layers_from_file(&path).unwrap();
     let channel = image.layer_data[0]
@@ -733,7 +744,7 @@ fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
     for plane in &mut zero.planes {
         plane.count[1] = 0;
     }
-    zero.write(&path).unwrap();
+    zero.write(&path, Packing::Small).unwrap();
     assert_mentions(
         &Partial::read(&path).unwrap_err(),
         &[
@@ -746,7 +757,7 @@ fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
     // ... dropped samples beyond the range are not there to drop, ...
     let mut many = p.clone();
     many.dropped = u64::MAX - 1;
-    many.write(&path).unwrap();
+    many.write(&path, Packing::Small).unwrap();
     assert_mentions(
         &Partial::read(&path).unwrap_err(),
         &["'dropped' is 18446744073709551614", "leave 0"],
@@ -755,7 +766,7 @@ fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
     let mut uneven = p.clone();
     uneven.planes[3].count[2] = 7;
     uneven.dropped = 1;
-    uneven.write(&path).unwrap();
+    uneven.write(&path, Packing::Small).unwrap();
     assert_mentions(
         &Partial::read(&path).unwrap_err(),
         &[

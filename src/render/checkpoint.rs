@@ -10,7 +10,7 @@
 //! while writing one, even by SIGKILL, leaves the previous checkpoint as it was.
 
 use super::fingerprint::Fingerprint;
-use super::partial::{Partial, SampleRange};
+use super::partial::{Packing, Partial, SampleRange};
 use super::session::Session;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -52,7 +52,7 @@ impl Checkpoints {
         let began = Instant::now();
         let partial = accumulation(session, start, fingerprint, source)
             .map_err(|e| format!("{}: {e}", self.path.display()))?;
-        partial.write(&self.path)?;
+        partial.write(&self.path, Packing::Fast)?;
         self.last = Instant::now();
         self.costs.push(began.elapsed());
         Ok(partial.samples)
