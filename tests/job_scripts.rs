@@ -22,6 +22,17 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Exit 1, naming the option (without its `=value`) as the job's own.
+fn assert_refused_as_the_jobs_own(result: &Output, option: &str) {
+    let err = stderr(result);
+    let name = option.split('=').next().unwrap();
+    assert_eq!(result.status.code(), Some(1), "{option}: {err}");
+    assert!(
+        err.contains(&format!("render option '{name}' is the job's own")),
+        "{option}: {err}"
+    );
+}
+
 const OWN_OPTIONS: [&str; 9] = [
     "--out",
     "--out=x.exr",
@@ -54,13 +65,7 @@ fn a_chunk_refuses_render_options_that_are_the_jobs_own_before_rendering() {
             ],
             &[("SLURM_ARRAY_TASK_ID", "1")],
         );
-        let err = stderr(&result);
-        let name = option.split('=').next().unwrap();
-        assert_eq!(result.status.code(), Some(1), "{option}: {err}");
-        assert!(
-            err.contains(&format!("render option '{name}' is the job's own")),
-            "{option}: {err}"
-        );
+        assert_refused_as_the_jobs_own(&result, option);
         assert!(
             !out.path().join("partials").exists(),
             "{option}: the chunk began before refusing"
@@ -78,13 +83,7 @@ fn submit_refuses_the_jobs_own_options_and_images_named_over_its_other_outputs()
     for option in OWN_OPTIONS {
         let args: Vec<&str> = base.iter().copied().chain(["--", option, "x"]).collect();
         let result = run("jobs/slurm/submit", &args, &env);
-        let err = stderr(&result);
-        let name = option.split('=').next().unwrap();
-        assert_eq!(result.status.code(), Some(1), "{option}: {err}");
-        assert!(
-            err.contains(&format!("render option '{name}' is the job's own")),
-            "{option}: {err}"
-        );
+        assert_refused_as_the_jobs_own(&result, option);
     }
     for (image, says) in [
         ("merged.exr", "the merged partial's name"),
