@@ -393,6 +393,7 @@ fn lay_out(root: &Path, dir: &Path) {
     .unwrap();
     std::fs::write(extra.join("part.exr"), partial(0..8)).unwrap();
     std::fs::write(extra.join("next.exr"), partial(8..16)).unwrap();
+    std::fs::write(extra.join("tiled.exr"), tiled_checkpoint()).unwrap();
     std::fs::write(
         extra.join("view.script"),
         "wait 2\nkey 2\nhold W 3\ndrag 10 -5\nscroll 2\nscreenshot a.png\nquit\n",
@@ -490,6 +491,12 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
                 dir.join("scenes/extra/part.exr"),
                 dir.join("scenes/extra/next.exr"),
             ]);
+            if let Ok(c) =
+                passgraph::render::partial::Partial::read(&dir.join("scenes/extra/tiled.exr"))
+            {
+                let _ = c.tiles_held();
+                let _ = c.holds();
+            }
         }
     }
 }
@@ -515,15 +522,49 @@ fn partial(range: std::ops::Range<u32>) -> Vec<u8> {
             end: range.end,
         },
         dropped: u64::from(dropped),
-        fingerprint: passgraph::render::fingerprint::Fingerprint {
-            graph: 1,
-            scene: 2,
-            settings: "size 8x4, seed 0, max_depth 3".into(),
-        },
+        fingerprint: donor_fingerprint([8, 4]),
         source: "fuzz".into(),
         planes: vec![plane; 5],
+        progress: None,
     }
     .encode(Packing::Small)
+    .unwrap()
+}
+
+fn donor_fingerprint(size: [u32; 2]) -> passgraph::render::fingerprint::Fingerprint {
+    passgraph::render::fingerprint::Fingerprint {
+        graph: 1,
+        scene: 2,
+        settings: format!("size {}x{}, seed 0, max_depth 3", size[0], size[1]),
+    }
+}
+
+/// A checkpoint of a 16x8 render in tiles of 8x8 stopped in the second tile (3 of samples
+/// 0..8): the donor for a checkpoint's `tiles` line.
+fn tiled_checkpoint() -> Vec<u8> {
+    use passgraph::render::partial::{Packing, Partial, Plane, SampleRange, TileProgress};
+    let pixels = 128;
+    let plane = Plane {
+        mean: (0..pixels).map(|i| [i as f32 * 0.01, 0.5, 0.25]).collect(),
+        compensation: vec![[1e-9, 0.0, -1e-9]; pixels],
+        count: (0..pixels)
+            .map(|i| if i % 16 < 8 { 8 } else { 3 })
+            .collect(),
+    };
+    Partial {
+        size: [16, 8],
+        samples: SampleRange { start: 0, end: 8 },
+        dropped: 0,
+        fingerprint: donor_fingerprint([16, 8]),
+        source: "fuzz".into(),
+        planes: vec![plane; 5],
+        progress: Some(TileProgress {
+            tile: [8, 8],
+            done: 1,
+            next: 3,
+        }),
+    }
+    .encode(Packing::Fast)
     .unwrap()
 }
 
@@ -572,6 +613,14 @@ fn main() {
     for scene in ["tex.ron", "maps.gltf", "maps.ron", "maps-binary.glb"] {
         if let Err(e) = passgraph::scene::load_scene(&pristine.join("scenes/extra").join(scene)) {
             eprintln!("fuzz_inputs: the scene {scene} does not load: {e}");
+            std::process::exit(1);
+        }
+    }
+    for part in ["part.exr", "next.exr", "tiled.exr"] {
+        if let Err(e) =
+            passgraph::render::partial::Partial::read(&pristine.join("scenes/extra").join(part))
+        {
+            eprintln!("fuzz_inputs: the partial {part} does not read: {e}");
             std::process::exit(1);
         }
     }

@@ -5,10 +5,10 @@ use passgraph::bench::metrics::image_error;
 use passgraph::bench::variant::Variant;
 use passgraph::render::camera_path::{Segment, load_camera_path};
 use passgraph::render::channels::{Channel, ChannelSelection};
-use passgraph::render::checkpoint::{Checkpoints, accumulation, resume};
+use passgraph::render::checkpoint::{Checkpoints, resume};
 use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::image::{RgbImage, check_output_path};
-use passgraph::render::partial::{MAX_RANGE, Packing, SampleRange};
+use passgraph::render::partial::{MAX_RANGE, Packing, Partial, SampleRange};
 use passgraph::render::session::{Keep, RenderSettings, Session, check_render_contract};
 use passgraph::render::tiles::ImageRender;
 use passgraph::{GraphError, compile_file, to_dot};
@@ -152,22 +152,24 @@ struct RenderArgs {
     partial: Option<PathBuf>,
     /// Write the accumulation so far to this partial file (a checkpoint) every
     /// --checkpoint-every seconds, when SIGTERM, SIGINT or SIGHUP arrives (then end as that
-    /// signal would) and when done; --resume continues from it. Untiled renders only.
-    #[arg(long, value_name = "CKPT.exr", conflicts_with_all = ["camera_path", "tile"])]
+    /// signal would) and when done; --resume continues from it. A render in tiles checkpoints
+    /// its finished tiles and the current one's frames.
+    #[arg(long, value_name = "CKPT.exr", conflicts_with = "camera_path")]
     checkpoint: Option<PathBuf>,
     /// Seconds between checkpoints (default 300; 0: after every frame).
     #[arg(long, value_name = "SECONDS", requires = "checkpoint", value_parser = parse_interval)]
     checkpoint_every: Option<f64>,
     /// Continue the render a checkpoint (or partial file) of the same graph, scene and settings
-    /// holds: the result is bit for bit that of the render never stopped.
-    #[arg(long, value_name = "CKPT.exr", conflicts_with_all = ["camera_path", "tile"])]
+    /// holds: the result is bit for bit that of the render never stopped. A checkpoint written
+    /// inside a tiled render resumes in tiles of its size.
+    #[arg(long, value_name = "CKPT.exr", conflicts_with = "camera_path")]
     resume: Option<PathBuf>,
     /// Image size, WxH; default: a Mitsuba scene's film size, else 256x256.
     #[arg(long, value_parser = parse_size)]
     size: Option<[u32; 2]>,
     /// Render in tiles of WxH (sides multiples of 8), one after another, bit for bit the
     /// whole image; without it, only an image over the device's limits is tiled.
-    #[arg(long, value_parser = parse_size, conflicts_with_all = ["camera_path", "partial"])]
+    #[arg(long, value_parser = parse_size, conflicts_with = "camera_path")]
     tile: Option<[u32; 2]>,
     /// Random seed: the same seed gives the same image on the same adapter.
     #[arg(long, default_value_t = 0)]
@@ -695,17 +697,35 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         defines: args.define.clone(),
         camera: args.camera.clone(),
     };
-    // A partial file, a checkpoint or a resumed render reads or writes the whole accumulation:
-    // only an untiled session has one.
-    let whole_accumulation =
-        args.partial.is_some() || args.checkpoint.is_some() || args.resume.is_some();
-    let mut render = if whole_accumulation {
-        Session::for_partial(&settings, &args.channel).map(|s| ImageRender::Whole(Box::new(s)))
-    } else {
-        ImageRender::for_render(&settings, &args.channel, args.tile)
+    // A checkpoint written inside a tiled render resumes in tiles of its size: read first.
+    let checkpoint_in = match &args.resume {
+        Some(path) => Some((path.as_path(), Partial::read(path)?)),
+        None => None,
+    };
+    let mut tile = args.tile;
+    if let Some(progress) = checkpoint_in.as_ref().and_then(|(_, c)| c.progress) {
+        let asked = tile
+            .map(|t| passgraph::render::tiles::Tiling::new(size, t).map(|t| t.tile))
+            .transpose()
+            .map_err(Failure::Usage)?;
+        if asked.is_some_and(|t| t != progress.tile) {
+            return Err(Failure::Usage(format!(
+                "{}: the checkpoint is of a render in tiles of {}x{}, stopped inside a tile; it resumes in tiles of that size only (leave out --tile, or give --tile {}x{})",
+                args.resume.as_deref().unwrap_or(Path::new("")).display(),
+                progress.tile[0],
+                progress.tile[1],
+                progress.tile[0],
+                progress.tile[1]
+            )));
+        }
+        tile = Some(progress.tile);
     }
-    .map_err(|e| e.to_string())?;
-    let fingerprint = if whole_accumulation {
+    // A partial file, a checkpoint or a resumed render reads or writes the whole accumulation.
+    let keep_accumulation =
+        args.partial.is_some() || args.checkpoint.is_some() || args.resume.is_some();
+    let mut render = ImageRender::for_render(&settings, &args.channel, tile, keep_accumulation)
+        .map_err(|e| e.to_string())?;
+    let fingerprint = if keep_accumulation {
         Some(Fingerprint::of(&settings, render.session())?)
     } else {
         None
@@ -726,10 +746,14 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         settings.scene.display(),
         passgraph::gpu::context::describe(render.session().context().adapter_info())
     );
-    let resumed = match (&args.resume, &fingerprint, render.whole_mut()) {
-        (Some(path), Some(fingerprint), Some(session)) => {
-            Some(resume(path, session, fingerprint, range.end)?)
-        }
+    let resumed = match (&checkpoint_in, &fingerprint) {
+        (Some((path, checkpoint)), Some(fingerprint)) => Some(resume(
+            path,
+            checkpoint,
+            &mut render,
+            fingerprint,
+            range.end,
+        )?),
         _ => None,
     };
     let mut checkpoints = args.checkpoint.clone().map(|path| {
@@ -818,38 +842,32 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
             passgraph::bench::report::write_text(csv, &text)?;
         }
     }
-    // Tiles are rendered one after another: the bar counts frames of tiles.
-    let done = resumed.map_or(0, |r| r.len());
-    if let (Some(path), Some(r)) = (&args.resume, resumed) {
-        eprintln!(
-            "resumed from {}: samples {r} done, {} to go",
-            path.display(),
-            range.len() - done
-        );
+    if let (Some((path, _)), Some(held)) = (&checkpoint_in, &resumed) {
+        eprintln!("resumed from {}, which holds {held}", path.display());
     }
-    let frames = if segments.is_some() {
+    // Tiles are rendered one after another: the bar counts frames of tiles. A camera path
+    // renders its own frames above.
+    let steps = if segments.is_some() {
         0
     } else {
-        range.len() - done
+        render.steps_left()
     };
-    let bar = indicatif::ProgressBar::new(render.steps(frames));
+    let bar = indicatif::ProgressBar::new(steps);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {per_sec} eta {eta}")
             .map_err(|e| e.to_string())?,
     );
-    // A camera path has rendered its own frames above.
-    for _ in 0..render.steps(frames) {
+    for _ in 0..steps {
         render.render_frame().map_err(|e| e.to_string())?;
         bar.inc(1);
         if let (Some(checkpoints), Some(fingerprint)) = (&mut checkpoints, &fingerprint) {
             let signal = passgraph::atomic_write::pending_signal();
             if signal.is_some() || checkpoints.due() {
-                let samples =
-                    checkpoints.write(render.session(), range.start, fingerprint, &source)?;
+                let held = checkpoints.write(&render, range.start, fingerprint, &source)?;
                 // A line each, for a farm's log (and for tests to act on).
                 bar.suspend(|| {
                     eprintln!(
-                        "checkpoint: samples {samples} in {} ({:.1} ms)",
+                        "checkpoint: {held} in {} ({:.1} ms)",
                         checkpoints.path.display(),
                         checkpoints
                             .costs
@@ -887,7 +905,8 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         .chain(checkpoints.as_ref().map(|c| &c.path))
         .collect();
     if let (Some(first), Some(fingerprint)) = (accumulation_outputs.first(), &fingerprint) {
-        let bytes = accumulation(render.session(), range.start, fingerprint, &source)
+        let bytes = render
+            .accumulation(range.start, fingerprint, &source)
             .and_then(|partial| partial.encode(Packing::Small))
             .map_err(|e| format!("{}: {e}", first.display()))?;
         for path in accumulation_outputs {
@@ -914,11 +933,11 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
         ))?;
     }
     // The frames this process rendered (not those a checkpoint brought; a camera path's in
-    // every segment).
-    let frames = path_frames.unwrap_or(u64::from(render.accumulated() - done));
-    let fps = frames as f64 / seconds;
-    let samples = match (args.samples, resumed) {
-        (_, Some(r)) => format!(" (samples {}..{}, after {r} resumed)", r.end, range.end),
+    // every segment); in tiles, steps over tiles (a fraction after a resume inside a tile).
+    let frames = path_frames.map_or(steps as f64 / render.tile_count() as f64, |f| f as f64);
+    let fps = frames / seconds;
+    let samples = match (args.samples, &resumed) {
+        (_, Some(held)) => format!(" (samples {range}, after {held} resumed)"),
         (Some(range), None) => format!(" (samples {range})"),
         (None, None) => String::new(),
     };

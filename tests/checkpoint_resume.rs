@@ -1,7 +1,8 @@
 //! Checkpoint and resume (`render --checkpoint`, `--resume`; src/render/checkpoint.rs): a render
 //! killed at any moment, even by SIGKILL, continues from its last checkpoint to the very bytes
 //! of the render that was never stopped; SIGTERM writes a checkpoint first; a checkpoint being
-//! written when the process dies leaves the previous one whole.
+//! written when the process dies leaves the previous one whole. A render in tiles checkpoints
+//! and resumes inside any tile, to the bytes of the whole render.
 
 use passgraph::render::partial::Partial;
 use std::io::{BufRead, BufReader};
@@ -48,11 +49,19 @@ fn start_checkpointing(
     dir: &Path,
     checkpoints: usize,
 ) -> (Child, BufReader<std::process::ChildStderr>) {
+    start_checkpointing_with(dir, checkpoints, &[])
+}
+
+/// [`start_checkpointing`] with more options.
+fn start_checkpointing_with(
+    dir: &Path,
+    checkpoints: usize,
+    extra: &[&str],
+) -> (Child, BufReader<std::process::ChildStderr>) {
+    let mut args = vec!["--checkpoint", "c.exr", "--checkpoint-every", "0"];
+    args.extend_from_slice(extra);
     let mut child = Command::new(env!("CARGO_BIN_EXE_passgraph"))
-        .args(render_args(
-            "x.exr",
-            &["--checkpoint", "c.exr", "--checkpoint-every", "0"],
-        ))
+        .args(render_args("x.exr", &args))
         .current_dir(dir)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -265,10 +274,6 @@ fn checkpoint_usage_errors_exit_2_before_rendering() {
             "not a number of seconds",
         ),
         (vec!["render", "--checkpoint", "c.png"], "name it .exr"),
-        (
-            vec!["render", "--checkpoint", "c.exr", "--tile", "16x16"],
-            "cannot be used with",
-        ),
     ] {
         let out = passgraph(dir.path(), &args);
         assert_eq!(
@@ -283,4 +288,105 @@ fn checkpoint_usage_errors_exit_2_before_rendering() {
             text(&out.stderr)
         );
     }
+}
+
+/// 300 frames of 4 tiles of 16x16: 1,200 steps, a checkpoint after each.
+const TILE: &str = "16x16";
+const TILED_STEPS: usize = 1200;
+
+#[test]
+fn a_tiled_render_killed_by_sigkill_inside_any_tile_resumes_to_the_bytes_of_the_whole_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = unbroken(dir.path());
+    // The end of the first tile (the checkpoint where the second holds nothing yet), then
+    // moments from a fixed sequence over all four tiles.
+    let mut x = 0x85eb_ca6b_u32;
+    let mut moments = vec![300];
+    for _ in 0..3 {
+        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        moments.push(1 + (x >> 8) as usize % (TILED_STEPS - 1));
+    }
+    for after in moments {
+        let (mut child, _stderr) = start_checkpointing_with(dir.path(), after, &["--tile", TILE]);
+        child.kill().unwrap();
+        assert_eq!(child.wait().unwrap().signal(), Some(9));
+        let checkpoint = Partial::read(&dir.path().join("c.exr")).unwrap();
+        if let Some(progress) = checkpoint.progress {
+            let steps = progress.done * 300 + progress.next;
+            assert!(
+                steps >= after as u32 && progress.tile == [16, 16],
+                "killed after {after} checkpoints: {progress}"
+            );
+        }
+        // The resume takes the checkpoint's tiles without being told.
+        assert_eq!(
+            resume(dir.path()),
+            whole,
+            "resumed after a SIGKILL following checkpoint {after} of the tiled render"
+        );
+        std::fs::remove_file(dir.path().join("c.exr")).unwrap();
+    }
+}
+
+#[test]
+fn a_partial_file_rendered_in_tiles_is_the_same_file_as_the_whole_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    ok(&passgraph(
+        dir.path(),
+        &render_args("w.exr", &["--partial", "w-part.exr"]),
+    ));
+    ok(&passgraph(
+        dir.path(),
+        &render_args("t.exr", &["--partial", "t-part.exr", "--tile", "16x8"]),
+    ));
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("t-part.exr"), read("w-part.exr"));
+    assert_eq!(read("t.exr"), read("w.exr"));
+}
+
+#[test]
+fn a_checkpoint_inside_a_tiled_render_resumes_only_in_its_tiles_and_frames_and_never_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut child, _stderr) = start_checkpointing_with(dir.path(), 450, &["--tile", TILE]);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let checkpoint = Partial::read(&dir.path().join("c.exr")).unwrap();
+    assert!(checkpoint.progress.is_some(), "{}", checkpoint.holds());
+    let refused = |args: &[&str], code: i32, says: &[&str]| {
+        let out = passgraph(dir.path(), args);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+        for s in says {
+            assert!(err.contains(s), "{args:?}: '{s}' not in: {err}");
+        }
+    };
+    refused(
+        &["merge", "c.exr", "--out", "m.exr"],
+        1,
+        &[
+            "c.exr: a checkpoint of a tiled render stopped inside its range",
+            "in 1 of 4 tiles of 16x16",
+            "resume it to the end",
+        ],
+    );
+    refused(
+        &render_args("r.exr", &["--resume", "c.exr", "--tile", "8x8"]),
+        2,
+        &[
+            "c.exr: the checkpoint is of a render in tiles of 16x16",
+            "--tile 16x16",
+        ],
+    );
+    refused(
+        &[
+            "render", "--graph", GRAPH, "--size", "32x32", "--frames", "400", "--resume", "c.exr",
+            "--out", "r.exr",
+        ],
+        1,
+        &[
+            "c.exr: the checkpoint's finished tiles hold samples 0..300",
+            "give --frames 300",
+        ],
+    );
+    assert!(!dir.path().join("r.exr").exists());
 }

@@ -13,7 +13,7 @@ use passgraph::render::accumulate::CompensatedMean;
 use passgraph::render::channels::{Channel, ChannelSelection};
 use passgraph::render::fingerprint::Fingerprint;
 use passgraph::render::merge::merge;
-use passgraph::render::partial::{Packing, Partial, Plane, SampleRange};
+use passgraph::render::partial::{Packing, Partial, Plane, SampleRange, TileProgress};
 use passgraph::render::session::{RenderSettings, Session};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -296,6 +296,7 @@ fn cpu_partial(r: SampleRange, pixels: u32) -> Partial {
         fingerprint: fingerprint("size"),
         source: String::new(),
         planes: vec![plane; 5],
+        progress: None,
     }
 }
 
@@ -634,6 +635,7 @@ fn counts_weigh_each_range_per_pixel() {
             };
             5
         ],
+        progress: None,
     };
     let a = partial(range(0, 2), [1.0, 0.0, 0.0], [2, 0, 0]);
     let b = partial(range(2, 6), [4.0, 2.0, 0.0], [4, 3, 0]);
@@ -773,5 +775,84 @@ fn a_partial_with_edited_data_or_counts_that_do_not_add_up_is_refused() {
             "channel 'ambient' counts 7 samples at pixel (2, 0)",
             "'l0' 8",
         ],
+    );
+}
+
+#[test]
+fn a_tiled_checkpoints_progress_round_trips_and_each_tiles_counts_must_fit_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ckpt.exr");
+    // 16x1 in tiles of 8x1: the first tile holds 3 of samples 0..8, the second none.
+    let mut p = cpu_partial(range(0, 8), 16);
+    p.progress = Some(TileProgress {
+        tile: [8, 1],
+        done: 0,
+        next: 3,
+    });
+    for plane in &mut p.planes {
+        for (i, n) in plane.count.iter_mut().enumerate() {
+            *n = if i < 8 { 3 } else { 0 };
+        }
+    }
+    p.write(&path, Packing::Fast).unwrap();
+    let read = Partial::read(&path).unwrap();
+    assert_eq!(read, p);
+    assert_eq!(
+        read.holds(),
+        "samples 0..8 in 0 of 2 tiles of 8x1, 0..3 in the next"
+    );
+    // Each change below is written with a recomputed checksum, as a forger would: the counts
+    // must still fit the tiles' progress.
+    let refused = |q: &Partial, says: &[&str]| {
+        q.write(&path, Packing::Fast).unwrap();
+        assert_mentions(&Partial::read(&path).unwrap_err(), says);
+    };
+    let mut over = p.clone();
+    for plane in &mut over.planes {
+        plane.count[10] = 1;
+    }
+    refused(
+        &over,
+        &[
+            "ckpt.exr",
+            "counts 1 samples at pixel (10, 0)",
+            "its tile holds (0 of range 0..8: 8x1 done 0 next 3)",
+        ],
+    );
+    let mut short = p.clone();
+    for plane in &mut short.planes {
+        plane.count[0] = 2;
+    }
+    refused(
+        &short,
+        &["'dropped' is 0", "leave 1 of the samples its tiles hold"],
+    );
+    let with = |progress: TileProgress| Partial {
+        progress: Some(progress),
+        ..p.clone()
+    };
+    refused(
+        &with(TileProgress {
+            tile: [8, 1],
+            done: 2,
+            next: 0,
+        }),
+        &["'tiles' (8x1 done 2 next 0) is not the progress of a 16x1 image in 2 tiles"],
+    );
+    refused(
+        &with(TileProgress {
+            tile: [8, 1],
+            done: 0,
+            next: 8,
+        }),
+        &["the next tile holds 8 samples", "fewer than the range's 8"],
+    );
+    refused(
+        &with(TileProgress {
+            tile: [5, 1],
+            done: 0,
+            next: 3,
+        }),
+        &["'tiles' (5x1 done 0 next 3)", "multiple of 8"],
     );
 }

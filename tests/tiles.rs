@@ -28,10 +28,13 @@ fn render(
         ..settings(graph, "scenes/cornell/scene.ron", 48, 0, &[])
     };
     let channel: ChannelSelection = ALL_PLANES.parse().unwrap();
-    let mut r = ImageRender::for_render(&s, &channel, tile).unwrap_or_else(|e| panic!("{e}"));
+    let mut r =
+        ImageRender::for_render(&s, &channel, tile, false).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r.tiling().is_some(), tile.is_some(), "{graph}");
     r.start_at_sample(first);
-    for _ in 0..r.steps(frames) {
+    let tiles = r.tile_count() as u64;
+    assert_eq!(r.steps_left(), u64::from(frames) * tiles);
+    for _ in 0..u64::from(frames) * tiles {
         r.render_frame().unwrap();
     }
     assert_eq!(r.accumulated(), frames);

@@ -6,12 +6,18 @@
 //! [`Session::resume_from`]). A checkpoint is an ordinary partial file (src/render/partial.rs),
 //! so it also merges with partials of the ranges after it.
 //!
+//! A render in tiles (src/render/tiles.rs) takes one tile after another: its checkpoint holds
+//! the finished tiles and the current one's frames so far (the partial's `tiles` line says how
+//! far it got), and its resume renders from there, in tiles of the same size. Such a
+//! checkpoint is for resuming only: until the last tile is done it is not a merge's input.
+//!
 //! A checkpoint is written whole or not at all (temporary file, then rename): a process killed
 //! while writing one, even by SIGKILL, leaves the previous checkpoint as it was.
 
 use super::fingerprint::Fingerprint;
 use super::partial::{Packing, Partial, SampleRange};
 use super::session::Session;
+use super::tiles::ImageRender;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -40,22 +46,23 @@ impl Checkpoints {
         self.last.elapsed() >= self.every
     }
 
-    /// Writes the accumulation of `session` as samples `start..start + accumulated`; returns
-    /// them.
+    /// Writes the accumulation of `render` so far, of samples from `start` on; returns what
+    /// it holds, for a log line ([`Partial::holds`]).
     pub fn write(
         &mut self,
-        session: &Session,
+        render: &ImageRender,
         start: u32,
         fingerprint: &Fingerprint,
         source: &str,
-    ) -> Result<SampleRange, String> {
+    ) -> Result<String, String> {
         let began = Instant::now();
-        let partial = accumulation(session, start, fingerprint, source)
+        let partial = render
+            .accumulation(start, fingerprint, source)
             .map_err(|e| format!("{}: {e}", self.path.display()))?;
         partial.write(&self.path, Packing::Fast)?;
         self.last = Instant::now();
         self.costs.push(began.elapsed());
-        Ok(partial.samples)
+        Ok(partial.holds())
     }
 
     /// The median cost of a checkpoint so far.
@@ -91,17 +98,17 @@ pub fn accumulation(
     )
 }
 
-/// Reads a checkpoint for the render `session` is about to do (samples `start..end`, with
-/// `fingerprint`) and restores it into the session; returns the samples it held. Every error
+/// Restores `checkpoint` (read from `path`) into the render about to do samples
+/// `start..end` with `fingerprint`; returns what it held ([`Partial::holds`]). Every error
 /// names the file and says what differs.
 pub fn resume(
     path: &Path,
-    session: &mut Session,
+    checkpoint: &Partial,
+    render: &mut ImageRender,
     fingerprint: &Fingerprint,
     end: u32,
-) -> Result<SampleRange, String> {
-    let partial = Partial::read(path)?;
-    let differences = partial.fingerprint.differences(fingerprint);
+) -> Result<String, String> {
+    let differences = checkpoint.fingerprint.differences(fingerprint);
     if !differences.is_empty() {
         return Err(format!(
             "{}: the checkpoint is of another render: {} differ",
@@ -109,17 +116,17 @@ pub fn resume(
             differences.join(", ")
         ));
     }
-    if partial.samples.end > end {
+    if checkpoint.samples.end > end {
         return Err(format!(
             "{}: the checkpoint holds samples {}, past this render's last ({}): give --frames {} or more",
             path.display(),
-            partial.samples,
+            checkpoint.samples,
             end - 1,
-            partial.samples.end
+            checkpoint.samples.end
         ));
     }
-    session
-        .resume_from(&partial)
+    render
+        .resume_from(checkpoint)
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(partial.samples)
+    Ok(checkpoint.holds())
 }

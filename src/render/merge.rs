@@ -60,6 +60,13 @@ pub fn merge_files(paths: &[PathBuf]) -> Result<Partial, String> {
         .iter()
         .map(|path| {
             let p = Partial::read(path)?;
+            if p.progress.is_some() {
+                return Err(format!(
+                    "{}: a checkpoint of a tiled render stopped inside its range ({}): resume it to the end (`passgraph render --resume`) before merging",
+                    show(path),
+                    p.holds()
+                ));
+            }
             Ok((
                 path.clone(),
                 Partial {
@@ -230,6 +237,7 @@ impl Sums {
                 first.source
             ),
             planes,
+            progress: None,
         }
     }
 }

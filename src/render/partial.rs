@@ -32,6 +32,7 @@
 //! | `fingerprint` | 32 hex digits: graph, scene and settings in one hash |
 //! | `fingerprint.graph`, `fingerprint.scene` | 32 hex digits each |
 //! | `settings` | `size WxH, seed K, max_depth D` |
+//! | `tiles` | only in a checkpoint of a tiled render stopped inside its range: `WxH done D next N`, the tile size, the tiles finished (in rendering order: [`Tiling::in_rendering_order`]) and the samples the next one holds; the tiles after it hold none |
 //! | `source` | informative: graph and scene as given, the adapter; never compared |
 //! | `checksum` | 32 hex digits: XXH3-128 of every line above but `source`, then each channel's means, compensations and counts (little-endian, channel order as above) |
 //!
@@ -39,12 +40,17 @@
 //! the file in every error: unreadable or truncated EXR, not a partial, an unknown version, a
 //! missing or mistyped channel, a size that disagrees, a fingerprint that does not add up, a
 //! checksum that does not match (an edited header or data, flipped bits), counts above the
-//! range's length or differing between channels, a `dropped` that is not what the counts
-//! leave out of the range, non-finite values. The checksum catches edits and damage, not a
+//! samples their pixel holds (the range's length, or the tile's progress) or differing between
+//! channels, a `dropped` that is not what the counts leave out, non-finite values.
+//!
+//! A partial without a `tiles` line holds the whole range in every pixel, whether it was
+//! rendered whole or in tiles: the two files are the same bytes. One with a `tiles` line is
+//! only a checkpoint to resume (`merge` refuses it). The checksum catches edits and damage, not a
 //! forger who recomputes it: no check without a secret can.
 
 use super::channels::Channel;
 use super::fingerprint::{Fingerprint, hash_text, parse_hash};
+use super::tiles::{Tile, Tiling};
 use crate::atomic_write::write_atomic;
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
@@ -70,6 +76,7 @@ const ATTR_FINGERPRINT: &str = "fingerprint";
 const ATTR_GRAPH: &str = "fingerprint.graph";
 const ATTR_SCENE: &str = "fingerprint.scene";
 const ATTR_SETTINGS: &str = "settings";
+const ATTR_TILES: &str = "tiles";
 const ATTR_SOURCE: &str = "source";
 const ATTR_CHECKSUM: &str = "checksum";
 
@@ -119,6 +126,46 @@ impl std::str::FromStr for SampleRange {
     }
 }
 
+/// How far a tiled render got, in a checkpoint written before its last tile was done.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TileProgress {
+    /// The tile size of the render's [`Tiling`].
+    pub tile: [u32; 2],
+    /// Tiles finished, in rendering order: they hold the whole range.
+    pub done: u32,
+    /// Samples the next tile holds (fewer than the range's); the tiles after it hold none.
+    pub next: u32,
+}
+
+impl fmt::Display for TileProgress {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(
+            f,
+            "{}x{} done {} next {}",
+            self.tile[0], self.tile[1], self.done, self.next
+        )
+    }
+}
+
+impl std::str::FromStr for TileProgress {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<TileProgress, String> {
+        let bad = || format!("'{s}' is not 'WxH done D next N'");
+        let words: Vec<&str> = s.split_whitespace().collect();
+        let [size, "done", done, "next", next] = words.as_slice() else {
+            return Err(bad());
+        };
+        let (w, h) = size.split_once('x').ok_or_else(bad)?;
+        let number = |t: &str| t.parse::<u32>().map_err(|_| bad());
+        Ok(TileProgress {
+            tile: [number(w)?, number(h)?],
+            done: number(done)?,
+            next: number(next)?,
+        })
+    }
+}
+
 /// One channel's running means over a range: `width * height` pixels each.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plane {
@@ -138,6 +185,8 @@ pub struct Partial {
     pub source: String,
     /// In [`Channel::ALL`] order.
     pub planes: Vec<Plane>,
+    /// Set only in a checkpoint of a tiled render stopped before its last tile was done.
+    pub progress: Option<TileProgress>,
 }
 
 /// How a partial file's data is compressed; either reads back the same. ZIP for files sent to
@@ -173,19 +222,7 @@ impl Partial {
                 size[1]
             ));
         }
-        let planes = Channel::ALL
-            .iter()
-            .map(|c| {
-                let r = &result[c.layer() * pixels..][..pixels];
-                let e = &compensation[c.layer() * pixels..][..pixels];
-                Plane {
-                    mean: r.iter().map(|v| [v[0], v[1], v[2]]).collect(),
-                    compensation: e.iter().map(|v| [v[0], v[1], v[2]]).collect(),
-                    // The shader adds 1.0 per sample: a whole number, exact below 2^24.
-                    count: r.iter().map(|v| v[3] as u32).collect(),
-                }
-            })
-            .collect();
+        let planes = planes_from_buffers(pixels, result, compensation);
         let partial = Partial {
             size,
             samples,
@@ -193,6 +230,7 @@ impl Partial {
             fingerprint,
             source,
             planes,
+            progress: None,
         };
         partial.check().map_err(|e| format!("the render's {e}"))?;
         Ok(partial)
@@ -201,21 +239,13 @@ impl Partial {
     /// The planes as the `result` buffer holds them (mean, count as f32), for
     /// [`super::image::RgbImage::from_result`].
     pub fn to_result(&self) -> Vec<[f32; 4]> {
-        self.planes
-            .iter()
-            .flat_map(|p| {
-                p.mean
-                    .iter()
-                    .zip(&p.count)
-                    .map(|(m, &n)| [m[0], m[1], m[2], n as f32])
-            })
-            .collect()
+        planes_to_result(&self.planes)
     }
 
     /// The header's fields the checksum covers, in file order.
     fn checked_fields(&self) -> Vec<(&'static str, String)> {
         let fp = &self.fingerprint;
-        vec![
+        let mut fields = vec![
             (ATTR_FORMAT, FORMAT.to_string()),
             (ATTR_SAMPLES, self.samples.to_string()),
             (ATTR_SIZE, format!("{}x{}", self.size[0], self.size[1])),
@@ -224,7 +254,9 @@ impl Partial {
             (ATTR_GRAPH, hash_text(fp.graph)),
             (ATTR_SCENE, hash_text(fp.scene)),
             (ATTR_SETTINGS, fp.settings.replace(['\n', '\r'], " ")),
-        ]
+        ];
+        fields.extend(self.progress.map(|p| (ATTR_TILES, p.to_string())));
+        fields
     }
 
     /// XXH3-128 of the checked header fields and every plane's data (module documentation).
@@ -388,6 +420,11 @@ impl Partial {
             ));
         }
         let source = need(ATTR_SOURCE).unwrap_or_default();
+        let progress = fields
+            .get(ATTR_TILES)
+            .map(|t| t.parse::<TileProgress>())
+            .transpose()
+            .map_err(|e| format!("'{ATTR_TILES}': {e}"))?;
         let channels = &layer.channel_data.list;
         let find = |name: &str| {
             channels
@@ -438,6 +475,7 @@ impl Partial {
             fingerprint,
             source,
             planes,
+            progress,
         };
         // The planes' sizes first: the checksum of planes of the wrong size means nothing.
         partial.check_sizes()?;
@@ -471,11 +509,12 @@ impl Partial {
     }
 
     /// What every partial satisfies: planes of the image's size, finite values, counts no
-    /// larger than the range and the same in every channel (a dropped sample is dropped for
-    /// the whole pixel: shaders/accumulate.wgsl), `dropped` what the counts leave out of the
-    /// range.
-    fn check(&self) -> Result<(), String> {
+    /// larger than the samples their pixel holds and the same in every channel (a dropped
+    /// sample is dropped for the whole pixel: shaders/accumulate.wgsl), `dropped` what the
+    /// counts leave out.
+    pub(crate) fn check(&self) -> Result<(), String> {
         self.check_sizes()?;
+        let held = self.samples_held()?;
         let pixels = self.size[0] as usize * self.size[1] as usize;
         for (c, p) in Channel::ALL.iter().zip(&self.planes) {
             let name = c.name();
@@ -490,12 +529,18 @@ impl Partial {
                     pixel_name(i % pixels, self.size[0])
                 ));
             }
-            if let Some(i) = p.count.iter().position(|&n| n > self.samples.len()) {
+            if let Some(i) = (0..pixels).find(|&i| p.count[i] > held[i]) {
+                let holds = match self.progress {
+                    None => format!("the range {} holds", self.samples),
+                    Some(progress) => format!(
+                        "its tile holds ({} of range {}: {progress})",
+                        held[i], self.samples
+                    ),
+                };
                 return Err(format!(
-                    "channel '{name}' counts {} samples at pixel {}, more than the range {} holds",
+                    "channel '{name}' counts {} samples at pixel {}, more than {holds}",
                     p.count[i],
                     pixel_name(i, self.size[0]),
-                    self.samples
                 ));
             }
             let first = &self.planes[0];
@@ -512,18 +557,234 @@ impl Partial {
         let missing: u64 = self.planes[0]
             .count
             .iter()
-            .map(|&n| u64::from(self.samples.len() - n))
+            .zip(&held)
+            .map(|(&n, &h)| u64::from(h - n))
             .sum();
         if missing != self.dropped {
+            let of = match self.progress {
+                None => format!(
+                    "the {} x {pixels} samples of range {}",
+                    self.samples.len(),
+                    self.samples
+                ),
+                Some(progress) => format!(
+                    "the samples its tiles hold ({progress}) of range {}",
+                    self.samples
+                ),
+            };
             return Err(format!(
-                "'{ATTR_DROPPED}' is {} but the counts leave {missing} of the {} x {pixels} samples of range {} out",
-                self.dropped,
-                self.samples.len(),
-                self.samples
+                "'{ATTR_DROPPED}' is {} but the counts leave {missing} of {of} out",
+                self.dropped
             ));
         }
         Ok(())
     }
+
+    /// The tiles of a checkpoint with [`TileProgress`], in rendering order, each with the
+    /// samples it holds; an error if the progress does not fit the image and range.
+    pub fn tiles_held(&self) -> Result<Vec<(Tile, u32)>, String> {
+        let Some(progress) = self.progress else {
+            return Ok(vec![(Tile::whole(self.size), self.samples.len())]);
+        };
+        let tiling = Tiling::new(self.size, progress.tile)
+            .map_err(|e| format!("'{ATTR_TILES}' ({progress}): {e}"))?;
+        let tiles = tiling.in_rendering_order();
+        if tiling.tile != progress.tile || progress.done as usize >= tiles.len() {
+            return Err(format!(
+                "'{ATTR_TILES}' ({progress}) is not the progress of a {}x{} image in {} tiles of {}x{}",
+                self.size[0],
+                self.size[1],
+                tiles.len(),
+                tiling.tile[0],
+                tiling.tile[1]
+            ));
+        }
+        if progress.next >= self.samples.len() {
+            return Err(format!(
+                "'{ATTR_TILES}' ({progress}): the next tile holds {} samples, but a tile in progress holds fewer than the range's {}",
+                progress.next,
+                self.samples.len()
+            ));
+        }
+        Ok(tiles
+            .into_iter()
+            .enumerate()
+            .map(|(i, tile)| {
+                let held = match (i as u32).cmp(&progress.done) {
+                    std::cmp::Ordering::Less => self.samples.len(),
+                    std::cmp::Ordering::Equal => progress.next,
+                    std::cmp::Ordering::Greater => 0,
+                };
+                (tile, held)
+            })
+            .collect())
+    }
+
+    /// What it holds, for a log line: `samples 0..64`, or for a tiled render in progress
+    /// `samples 0..64 in 2 of 5 tiles of 1920x224, 0..17 in the next`.
+    pub fn holds(&self) -> String {
+        match (self.progress, self.tiles_held()) {
+            (Some(p), Ok(tiles)) => {
+                let next = match p.next {
+                    0 => String::new(),
+                    n => format!(
+                        ", {} in the next",
+                        SampleRange {
+                            start: self.samples.start,
+                            end: self.samples.start + n
+                        }
+                    ),
+                };
+                format!(
+                    "samples {} in {} of {} tiles of {}x{}{next}",
+                    self.samples,
+                    p.done,
+                    tiles.len(),
+                    p.tile[0],
+                    p.tile[1]
+                )
+            }
+            _ => format!("samples {}", self.samples),
+        }
+    }
+
+    /// The samples each pixel holds, before any was dropped.
+    fn samples_held(&self) -> Result<Vec<u32>, String> {
+        let mut held = vec![0; self.size[0] as usize * self.size[1] as usize];
+        for (tile, n) in self.tiles_held()? {
+            for row in tile_rows(tile, self.size[0]) {
+                held[row].fill(n);
+            }
+        }
+        Ok(held)
+    }
+
+    /// The part of the planes inside `tile`, as a partial of samples `samples` (its dropped
+    /// samples what its counts leave out of them): what a tile's session resumes from.
+    pub fn tile_part(&self, tile: Tile, samples: SampleRange) -> Partial {
+        let planes = cut_tile(&self.planes, self.size[0], tile);
+        let dropped = planes.first().map_or(0, |p| {
+            p.count
+                .iter()
+                .map(|&n| u64::from(samples.len().saturating_sub(n)))
+                .sum()
+        });
+        Partial {
+            size: tile.size,
+            samples,
+            dropped,
+            fingerprint: self.fingerprint.clone(),
+            source: self.source.clone(),
+            planes,
+            progress: None,
+        }
+    }
+}
+
+/// Planes from a session's `result` and `compensation` buffers (planes of `pixels` vec4:
+/// xyz, then the count in `result`'s w); the buffers hold at least 5 planes.
+pub fn planes_from_buffers(
+    pixels: usize,
+    result: &[[f32; 4]],
+    compensation: &[[f32; 4]],
+) -> Vec<Plane> {
+    Channel::ALL
+        .iter()
+        .map(|c| {
+            let r = &result[c.layer() * pixels..][..pixels];
+            let e = &compensation[c.layer() * pixels..][..pixels];
+            Plane {
+                mean: r.iter().map(|v| [v[0], v[1], v[2]]).collect(),
+                compensation: e.iter().map(|v| [v[0], v[1], v[2]]).collect(),
+                // The shader adds 1.0 per sample: a whole number, exact below 2^24.
+                count: r.iter().map(|v| v[3] as u32).collect(),
+            }
+        })
+        .collect()
+}
+
+/// The planes as the `result` buffer holds them (mean, count as f32).
+pub fn planes_to_result(planes: &[Plane]) -> Vec<[f32; 4]> {
+    planes
+        .iter()
+        .flat_map(|p| {
+            p.mean
+                .iter()
+                .zip(&p.count)
+                .map(|(m, &n)| [m[0], m[1], m[2], n as f32])
+        })
+        .collect()
+}
+
+/// Five zero planes of `pixels` pixels, or an error if the host cannot hold them.
+pub fn zero_planes(pixels: usize) -> Result<Vec<Plane>, String> {
+    let bytes = pixels as u64 * 28 * Channel::ALL.len() as u64;
+    let too_big = || {
+        format!(
+            "the accumulation of {pixels} pixels does not fit in this machine's memory ({bytes} bytes)"
+        )
+    };
+    let zeros = |n: usize| -> Result<Vec<[f32; 3]>, String> {
+        let mut v = Vec::new();
+        v.try_reserve_exact(n).map_err(|_| too_big())?;
+        v.resize(n, [0.0; 3]);
+        Ok(v)
+    };
+    Channel::ALL
+        .iter()
+        .map(|_| {
+            let mut count = Vec::new();
+            count.try_reserve_exact(pixels).map_err(|_| too_big())?;
+            count.resize(pixels, 0);
+            Ok(Plane {
+                mean: zeros(pixels)?,
+                compensation: zeros(pixels)?,
+                count,
+            })
+        })
+        .collect()
+}
+
+/// The part of `planes` (of an image `width` pixels wide) inside `tile`.
+pub fn cut_tile(planes: &[Plane], width: u32, tile: Tile) -> Vec<Plane> {
+    let cut = |v: &[[f32; 3]]| -> Vec<[f32; 3]> {
+        tile_rows(tile, width)
+            .flat_map(|row| v[row].iter().copied())
+            .collect()
+    };
+    planes
+        .iter()
+        .map(|p| Plane {
+            mean: cut(&p.mean),
+            compensation: cut(&p.compensation),
+            count: tile_rows(tile, width)
+                .flat_map(|row| p.count[row].iter().copied())
+                .collect(),
+        })
+        .collect()
+}
+
+/// Copies `part` (planes of `tile`'s size) into `planes` (of an image `width` pixels wide) at
+/// the tile's place.
+pub fn paste_tile(planes: &mut [Plane], width: u32, tile: Tile, part: &[Plane]) {
+    let tw = tile.size[0] as usize;
+    for (p, q) in planes.iter_mut().zip(part) {
+        for (k, row) in tile_rows(tile, width).enumerate() {
+            let from = k * tw..(k + 1) * tw;
+            p.mean[row.clone()].copy_from_slice(&q.mean[from.clone()]);
+            p.compensation[row.clone()].copy_from_slice(&q.compensation[from.clone()]);
+            p.count[row].copy_from_slice(&q.count[from]);
+        }
+    }
+}
+
+/// The index ranges of `tile`'s rows in planes of an image `width` pixels wide.
+fn tile_rows(tile: Tile, width: u32) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let (width, tw) = (width as usize, tile.size[0] as usize);
+    (0..tile.size[1] as usize).map(move |row| {
+        let start = (tile.origin[1] as usize + row) * width + tile.origin[0] as usize;
+        start..start + tw
+    })
 }
 
 fn pixel_name(i: usize, width: u32) -> String {

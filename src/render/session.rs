@@ -3,7 +3,7 @@
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_channel, texture_image};
-use super::partial::Partial;
+use super::partial::{Partial, Plane, SampleRange, planes_to_result};
 use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
@@ -466,22 +466,39 @@ impl Session {
     }
 
     /// Continues the accumulation a checkpoint holds (a partial file of this render's samples
-    /// `first_sample..first_sample + n`): its means, their rounding errors, counts and dropped
-    /// samples go back into the buffers, and the next frame draws sample `first_sample + n`, so
-    /// the render goes on bit for bit as if it had never stopped. The caller has checked the
-    /// partial's fingerprint against this render's.
+    /// `first_sample..first_sample + n`, of this session's size): its means, their rounding
+    /// errors, counts and dropped samples go back into the buffers, and the next frame draws
+    /// sample `first_sample + n`, so the render goes on bit for bit as if it had never stopped.
+    /// The caller has checked the partial's fingerprint against this render's.
     pub fn resume_from(&mut self, partial: &Partial) -> Result<(), RenderError> {
-        let fail = |why: String| Err(RenderError::Other(why));
-        if partial.size != self.size || self.tile.size != self.tile.image {
-            return fail(format!(
-                "the checkpoint is {}x{}, this render {}x{} (untiled renders only)",
-                partial.size[0], partial.size[1], self.size[0], self.size[1]
-            ));
+        if partial.size != self.size || partial.progress.is_some() {
+            return Err(RenderError::Other(format!(
+                "the checkpoint is {}x{}{}, this render {}x{}",
+                partial.size[0],
+                partial.size[1],
+                partial
+                    .progress
+                    .map_or(String::new(), |p| format!(" in tiles ({p})")),
+                self.size[0],
+                self.size[1]
+            )));
         }
-        if partial.samples.start != self.first_sample {
+        self.restore(partial.samples, partial.dropped, &partial.planes)
+    }
+
+    /// [`Session::resume_from`] for the planes of this session's tile holding `samples`, of
+    /// which `dropped` were dropped.
+    pub(crate) fn restore(
+        &mut self,
+        samples: SampleRange,
+        dropped: u64,
+        planes: &[Plane],
+    ) -> Result<(), RenderError> {
+        let fail = |why: String| Err(RenderError::Other(why));
+        if samples.start != self.first_sample {
             return fail(format!(
-                "the checkpoint holds samples {}, but this render starts at sample {}",
-                partial.samples, self.first_sample
+                "the checkpoint holds samples {samples}, but this render starts at sample {}",
+                self.first_sample
             ));
         }
         if let Some(name) = self.state_beyond_accumulation() {
@@ -490,31 +507,34 @@ impl Session {
                 self.plan.graph.display()
             ));
         }
-        let Ok(dropped) = u32::try_from(partial.dropped) else {
+        let Ok(dropped) = u32::try_from(dropped) else {
             return fail(format!(
-                "the checkpoint's {} dropped samples exceed the u32 counter",
-                partial.dropped
+                "the checkpoint's {dropped} dropped samples exceed the u32 counter"
             ));
         };
-        let done = partial.samples.len();
+        let done = samples.len();
         if done > self.max_frames {
             return fail(format!(
                 "the checkpoint holds {done} frames, more than the {} this render has",
                 self.max_frames
             ));
         }
-        let compensation: Vec<[f32; 4]> = partial
-            .planes
+        let compensation: Vec<[f32; 4]> = planes
             .iter()
             .flat_map(|p| p.compensation.iter().map(|c| [c[0], c[1], c[2], 0.0]))
             .collect();
-        self.write_leading(RESULT, bytemuck::cast_slice(&partial.to_result()))?;
+        self.write_leading(RESULT, bytemuck::cast_slice(&planes_to_result(planes)))?;
         self.write_leading(COMPENSATION, bytemuck::cast_slice(&compensation))?;
         self.write_leading(DROPPED, &dropped.to_le_bytes())?;
         self.accumulated = done;
         self.index = done;
         self.previous_camera = Some(self.gpu_camera());
         Ok(())
+    }
+
+    /// Frames still to render before `max_frames` are accumulated.
+    pub fn frames_left(&self) -> u32 {
+        self.max_frames.saturating_sub(self.accumulated)
     }
 
     /// Writes `bytes` at the start of a graph buffer, zeros after them (a graph may declare

@@ -13,7 +13,12 @@
 //! A tile is also a unit of work a render farm could hand out.
 
 use super::channels::ChannelSelection;
+use super::fingerprint::Fingerprint;
 use super::image::RgbImage;
+use super::partial::{
+    Partial, Plane, SampleRange, TileProgress, cut_tile, paste_tile, planes_from_buffers,
+    planes_to_result, zero_planes,
+};
 use super::session::{
     RenderError, RenderSettings, Session, compile_for, load_scene_for, prepare_graph,
 };
@@ -87,6 +92,15 @@ impl Tiling {
             })
             .collect()
     }
+
+    /// Every tile in the order a render takes them: grouped by size, largest first, so that
+    /// one session serves each run of equal tiles; row by row within a size.
+    pub fn in_rendering_order(&self) -> Vec<Tile> {
+        let mut tiles = self.tiles();
+        // Stable: row order within each size.
+        tiles.sort_by_key(|t| std::cmp::Reverse(t.size));
+        tiles
+    }
 }
 
 /// Why the graph cannot be rendered in tiles, naming the pass or resource; `None` if it can.
@@ -126,11 +140,16 @@ impl ImageRender {
     /// then renders the image whole if its plan fits the device and no `tile` is asked for, in
     /// tiles of `tile` if asked, else in the largest tiles that fit. A graph that does not fit
     /// whole and cannot be tiled is an error naming the pass and the largest untiled size.
+    /// With `keep_accumulation` (a partial file, checkpoints, a resume) the graph must also
+    /// have what [`super::session::partial_contract`] lists, and a tiled render keeps the
+    /// finished tiles' accumulation on the host.
     pub fn for_render(
         settings: &RenderSettings,
         channel: &ChannelSelection,
         tile: Option<[u32; 2]>,
+        keep_accumulation: bool,
     ) -> Result<ImageRender, RenderError> {
+        let keep = keep_accumulation;
         let [w, h] = settings.size;
         if u64::from(w) * u64::from(h) > u64::from(u32::MAX) {
             // shaders/lib/sampler.wgsl names a pixel's sequence by its u32 index in the image.
@@ -139,8 +158,8 @@ impl ImageRender {
             )));
         }
         let shown = Some(channel);
-        let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown, false)?;
-        let plan = compile_for(&graph, settings.size, shown, false)?;
+        let graph = prepare_graph(load_graph(&settings.graph)?, settings, shown, keep)?;
+        let plan = compile_for(&graph, settings.size, shown, keep)?;
         let requested = tile
             .map(|t| Tiling::new(settings.size, t))
             .transpose()
@@ -149,7 +168,7 @@ impl ImageRender {
         let ctx = GpuContext::new(settings.adapter.as_deref())?;
         let (limits, features) = (ctx.device().limits(), ctx.device().features());
         let fits = |size: [u32; 2]| -> Result<bool, RenderError> {
-            let plan = compile_for(&graph, size, shown, false)?;
+            let plan = compile_for(&graph, size, shown, keep)?;
             Ok(check_limits(&plan, &limits, features).is_ok())
         };
         let tiling = match (requested, check_limits(&plan, &limits, features)) {
@@ -180,7 +199,7 @@ impl ImageRender {
                 settings.graph.display()
             )));
         }
-        TiledRender::new(ctx, graph, settings, channel, tiling, scene)
+        TiledRender::new(ctx, graph, settings, channel, tiling, scene, keep)
             .map(|t| ImageRender::Tiled(Box::new(t)))
     }
 
@@ -212,13 +231,52 @@ impl ImageRender {
         }
     }
 
-    /// Calls of [`Self::render_frame`] that render `frames` frames of every tile.
-    pub fn steps(&self, frames: u32) -> u64 {
-        let tiles = match self {
+    /// Calls of [`Self::render_frame`] left until every pixel has its frames (after a resume,
+    /// fewer than frames times tiles).
+    pub fn steps_left(&self) -> u64 {
+        match self {
+            ImageRender::Whole(s) => u64::from(s.frames_left()),
+            ImageRender::Tiled(t) => t.steps_left(),
+        }
+    }
+
+    /// Tiles in the image (1 if whole): a frame of the image is this many steps.
+    pub fn tile_count(&self) -> usize {
+        match self {
             ImageRender::Whole(_) => 1,
-            ImageRender::Tiled(t) => t.tiles.len() as u64,
-        };
-        u64::from(frames) * tiles
+            ImageRender::Tiled(t) => t.tiles.len(),
+        }
+    }
+
+    /// Continues from a checkpoint (`render --resume`) whose fingerprint the caller checked: a
+    /// whole render from a checkpoint of any frame, a tiled one also from a checkpoint of its
+    /// tiling stopped inside a tile (its finished tiles are not rendered again).
+    pub fn resume_from(&mut self, checkpoint: &Partial) -> Result<(), RenderError> {
+        match self {
+            ImageRender::Whole(s) => match checkpoint.progress {
+                Some(p) => Err(RenderError::Other(format!(
+                    "the checkpoint is of a render in tiles of {}x{} stopped inside a tile: resume it in tiles of that size (--tile {}x{})",
+                    p.tile[0], p.tile[1], p.tile[0], p.tile[1]
+                ))),
+                None => s.resume_from(checkpoint),
+            },
+            ImageRender::Tiled(t) => t.resume_from(checkpoint),
+        }
+    }
+
+    /// The accumulation so far as a partial file of samples from `start` on (a checkpoint; at
+    /// the end, the `--partial` file). A tiled render's accumulation is the finished tiles'
+    /// and the current one's; stopped inside its range it has a [`TileProgress`].
+    pub fn accumulation(
+        &self,
+        start: u32,
+        fingerprint: &Fingerprint,
+        source: &str,
+    ) -> Result<Partial, String> {
+        match self {
+            ImageRender::Whole(s) => super::checkpoint::accumulation(s, start, fingerprint, source),
+            ImageRender::Tiled(t) => t.accumulation(start, fingerprint, source),
+        }
     }
 
     /// One frame of the current tile (or of the whole image); a tile that has its frames is
@@ -361,6 +419,14 @@ pub struct TiledRender {
     accumulated: u32,
     /// The sample index every tile starts at.
     first_sample: u32,
+    /// The accumulation of the whole image, finished tiles filled in, when a partial file, a
+    /// checkpoint or a resume needs it (5 planes, 28 bytes a pixel each, on the host).
+    kept: Option<Vec<Plane>>,
+    /// Frames each tile (in `tiles`' order) held when the render started: all 0, unless
+    /// resumed from a checkpoint.
+    held: Vec<u32>,
+    /// Compiled with the partial contract: the session keeps `result` and `compensation`.
+    keep: bool,
 }
 
 impl TiledRender {
@@ -371,10 +437,9 @@ impl TiledRender {
         channel: &ChannelSelection,
         tiling: Tiling,
         scene: (Scene, SceneGpu),
+        keep: bool,
     ) -> Result<TiledRender, RenderError> {
-        let mut tiles = tiling.tiles();
-        // Stable: row order within each size.
-        tiles.sort_by_key(|t| std::cmp::Reverse(t.size));
+        let tiles = tiling.in_rendering_order();
         let [w, h] = tiling.image;
         // The whole image is assembled on the host: a clear error rather than an abort when it
         // cannot be held.
@@ -387,13 +452,18 @@ impl TiledRender {
             ))
         })?;
         pixels.resize(count, [0.0; 3]);
-        let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene)?;
+        let kept = keep
+            .then(|| zero_planes(count))
+            .transpose()
+            .map_err(|e| RenderError::Other(format!("{w}x{h}: {e}; use a smaller --size")))?;
+        let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene, keep)?;
         Ok(TiledRender {
             graph,
             settings: settings.clone(),
             channel: channel.clone(),
             scene,
             tiling,
+            held: vec![0; tiles.len()],
             tiles,
             current: 0,
             session,
@@ -406,6 +476,8 @@ impl TiledRender {
             rays: None,
             accumulated: 0,
             first_sample: 0,
+            kept,
+            keep,
         })
     }
 
@@ -419,37 +491,67 @@ impl TiledRender {
         }
         self.finish_tile()?;
         self.current += 1;
-        let Some(&next) = self.tiles.get(self.current) else {
-            return Ok(());
-        };
-        if next.size == self.session.tile().size {
-            self.session.start_tile(next)
-        } else {
-            // The next size's session is built before this one is dropped: at a change of size
-            // (at most three per image, each to smaller tiles) two tiles' resources are alive
-            // for a moment.
-            let ctx = self.session.context().clone();
-            self.session = tile_session(
-                ctx,
-                &self.graph,
-                &self.settings,
-                &self.channel,
-                next,
-                &self.scene,
-            )?;
-            self.session.start_at_sample(self.first_sample);
-            Ok(())
-        }
+        self.enter_tile()
     }
 
-    /// Copies the current tile into the image and adds its counters.
+    /// Moves to the tile at `current`, past those a checkpoint brought finished: its session
+    /// (this one if of its size) starts there, from the frames the checkpoint holds of it.
+    fn enter_tile(&mut self) -> Result<(), RenderError> {
+        while self.current < self.tiles.len() && self.held[self.current] >= self.settings.max_frames
+        {
+            self.finish_held_tile()?;
+            self.current += 1;
+        }
+        let Some(&tile) = self.tiles.get(self.current) else {
+            return Ok(());
+        };
+        if tile != self.session.tile() {
+            if tile.size == self.session.tile().size {
+                self.session.start_tile(tile)?;
+            } else {
+                // The next size's session is built before this one is dropped: at a change of
+                // size (at most three per image, each to smaller tiles) two tiles' resources
+                // are alive for a moment.
+                let ctx = self.session.context().clone();
+                self.session = tile_session(
+                    ctx,
+                    &self.graph,
+                    &self.settings,
+                    &self.channel,
+                    tile,
+                    &self.scene,
+                    self.keep,
+                )?;
+                self.session.start_at_sample(self.first_sample);
+            }
+        }
+        let held = self.held[self.current];
+        if let (true, Some(kept)) = (held > 0, &self.kept) {
+            let planes = cut_tile(kept, self.tiling.image[0], tile);
+            let samples = SampleRange {
+                start: self.first_sample,
+                end: self.first_sample + held,
+            };
+            self.session
+                .restore(samples, dropped_of(&planes, held), &planes)?;
+        }
+        Ok(())
+    }
+
+    /// Copies the current tile into the image (and the kept accumulation) and adds its
+    /// counters.
     fn finish_tile(&mut self) -> Result<(), RenderError> {
         let tile = self.session.tile();
         let part = self.session.image(&self.channel)?;
-        let width = self.image.width as usize;
-        for (y, row) in part.pixels.chunks_exact(tile.size[0] as usize).enumerate() {
-            let start = (tile.origin[1] as usize + y) * width + tile.origin[0] as usize;
-            self.image.pixels[start..start + row.len()].copy_from_slice(row);
+        self.paste_image(tile, &part);
+        if let Some(kept) = &mut self.kept {
+            let pixels = tile.size[0] as usize * tile.size[1] as usize;
+            let planes = planes_from_buffers(
+                pixels,
+                &self.session.result()?,
+                &self.session.compensation()?,
+            );
+            paste_tile(kept, self.tiling.image[0], tile, &planes);
         }
         self.dropped += self.session.dropped()?;
         if let Some(rays) = self.session.rays_counted()? {
@@ -458,6 +560,171 @@ impl TiledRender {
         self.accumulated = self.session.accumulated();
         Ok(())
     }
+
+    /// The current tile, all of whose frames a checkpoint brought: its image from the kept
+    /// accumulation.
+    fn finish_held_tile(&mut self) -> Result<(), RenderError> {
+        let tile = self.tiles[self.current];
+        let ChannelSelection::Planes(channels) = &self.channel else {
+            return Err(RenderError::Other(format!(
+                "--channel {}: tiles a checkpoint brought finished can show only channels of the accumulation (sum, l0, direct, indirect, ambient)",
+                self.channel
+            )));
+        };
+        let kept = self.kept.as_ref().ok_or_else(|| {
+            RenderError::Other("a resumed tiled render keeps its accumulation".into())
+        })?;
+        let planes = cut_tile(kept, self.tiling.image[0], tile);
+        let part = RgbImage::from_result(
+            &planes_to_result(&planes),
+            tile.size[0],
+            tile.size[1],
+            channels,
+        );
+        self.paste_image(tile, &part);
+        let frames = self.settings.max_frames;
+        self.dropped += u32::try_from(dropped_of(&planes, frames)).unwrap_or(u32::MAX);
+        self.accumulated = frames;
+        Ok(())
+    }
+
+    fn paste_image(&mut self, tile: Tile, part: &RgbImage) {
+        let width = self.image.width as usize;
+        for (y, row) in part.pixels.chunks_exact(tile.size[0] as usize).enumerate() {
+            let start = (tile.origin[1] as usize + y) * width + tile.origin[0] as usize;
+            self.image.pixels[start..start + row.len()].copy_from_slice(row);
+        }
+    }
+
+    fn steps_left(&self) -> u64 {
+        let frames = self.settings.max_frames;
+        (self.current..self.tiles.len())
+            .map(|i| {
+                let done = if i == self.current {
+                    self.session.accumulated().max(self.held[i])
+                } else {
+                    self.held[i]
+                };
+                u64::from(frames.saturating_sub(done))
+            })
+            .sum()
+    }
+
+    fn resume_from(&mut self, checkpoint: &Partial) -> Result<(), RenderError> {
+        let fail = |why: String| Err(RenderError::Other(why));
+        if self.current != 0 || self.session.accumulated() != 0 {
+            return fail("a render resumes before its first frame".into());
+        }
+        if checkpoint.size != self.tiling.image {
+            return fail(format!(
+                "the checkpoint is {}x{}, this render {}x{}",
+                checkpoint.size[0], checkpoint.size[1], self.tiling.image[0], self.tiling.image[1]
+            ));
+        }
+        if checkpoint.samples.start != self.first_sample {
+            return fail(format!(
+                "the checkpoint holds samples {}, but this render starts at sample {}",
+                checkpoint.samples, self.first_sample
+            ));
+        }
+        let frames = self.settings.max_frames;
+        let held: Vec<u32> = match checkpoint.progress {
+            None => vec![checkpoint.samples.len(); self.tiles.len()],
+            Some(p) if p.tile != self.tiling.tile => {
+                return fail(format!(
+                    "the checkpoint is of a render in tiles of {}x{}, this one in tiles of {}x{}: resume it with --tile {}x{}",
+                    p.tile[0],
+                    p.tile[1],
+                    self.tiling.tile[0],
+                    self.tiling.tile[1],
+                    p.tile[0],
+                    p.tile[1]
+                ));
+            }
+            Some(p) if checkpoint.samples.len() != frames => {
+                return fail(format!(
+                    "the checkpoint's finished tiles hold samples {} ({p}); a render of another number of frames ({}) cannot continue it: give --frames {} (or --samples {})",
+                    checkpoint.samples, frames, checkpoint.samples.end, checkpoint.samples
+                ));
+            }
+            Some(_) => checkpoint
+                .tiles_held()
+                .map_err(RenderError::Other)?
+                .into_iter()
+                .map(|(_, n)| n)
+                .collect(),
+        };
+        if let Some(&most) = held.iter().max()
+            && most > frames
+        {
+            return fail(format!(
+                "the checkpoint holds {most} frames, more than the {frames} this render has"
+            ));
+        }
+        self.held = held;
+        self.kept = Some(checkpoint.planes.clone());
+        self.enter_tile()
+    }
+
+    fn accumulation(
+        &self,
+        start: u32,
+        fingerprint: &Fingerprint,
+        source: &str,
+    ) -> Result<Partial, String> {
+        let mut planes = self
+            .kept
+            .clone()
+            .ok_or("this tiled render does not keep its accumulation")?;
+        let mut dropped = u64::from(self.dropped);
+        let progress = match self.tiles.get(self.current) {
+            None => None,
+            Some(&tile) => {
+                let next = self.session.accumulated();
+                if next > 0 {
+                    let pixels = tile.size[0] as usize * tile.size[1] as usize;
+                    let part = planes_from_buffers(
+                        pixels,
+                        &self.session.result().map_err(|e| e.to_string())?,
+                        &self.session.compensation().map_err(|e| e.to_string())?,
+                    );
+                    paste_tile(&mut planes, self.tiling.image[0], tile, &part);
+                    dropped += u64::from(self.session.dropped().map_err(|e| e.to_string())?);
+                } else if self.current == 0 {
+                    return Err("no frame is rendered yet: nothing to write".into());
+                }
+                Some(TileProgress {
+                    tile: self.tiling.tile,
+                    done: self.current as u32,
+                    next,
+                })
+            }
+        };
+        let partial = Partial {
+            size: self.tiling.image,
+            samples: SampleRange {
+                start,
+                end: start + self.settings.max_frames,
+            },
+            dropped,
+            fingerprint: fingerprint.clone(),
+            source: source.to_string(),
+            planes,
+            progress,
+        };
+        partial.check().map_err(|e| format!("the render's {e}"))?;
+        Ok(partial)
+    }
+}
+
+/// Samples of `frames` per pixel that the counts of `planes` leave out.
+fn dropped_of(planes: &[Plane], frames: u32) -> u64 {
+    planes.first().map_or(0, |p| {
+        p.count
+            .iter()
+            .map(|&n| u64::from(frames.saturating_sub(n)))
+            .sum()
+    })
 }
 
 fn tile_session(
@@ -467,8 +734,9 @@ fn tile_session(
     channel: &ChannelSelection,
     tile: Tile,
     scene: &(Scene, SceneGpu),
+    keep: bool,
 ) -> Result<Session, RenderError> {
-    let plan = compile_for(graph, tile.size, Some(channel), false)?;
+    let plan = compile_for(graph, tile.size, Some(channel), keep)?;
     Session::from_plan(ctx, graph, plan, settings, tile, scene.clone())
 }
 
