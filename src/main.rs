@@ -812,6 +812,12 @@ fn render(mut args: RenderArgs) -> Result<(), Failure> {
     for c in &session.plan().culled {
         eprintln!("culled {}: {}", c.name, c.reason);
     }
+    // Never silent: the image is the same, but such a pipeline takes longer to create.
+    for (pass, why) in session.unspecialised() {
+        eprintln!(
+            "warning: pass '{pass}' is not specialised to its override values ({why}); its pipeline was built from the WGSL as written"
+        );
+    }
     eprintln!("{}", render.memory_line());
     let start = Instant::now();
     // The frames of the camera path's segments rendered, all of them (not only the last's).

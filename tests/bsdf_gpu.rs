@@ -125,25 +125,74 @@ fn run_with_kinds(
     use wgpu::util::DeviceExt;
     let path = root().join("tests/data/bsdf/bsdf_probe.wgsl");
     let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
+    // With `kinds`, the module the renderer would build: specialised by
+    // src/gpu/specialise.rs to that value (dead models removed), not wgpu's substitution.
+    let constants: Vec<(&str, f64)> = kinds
+        .map(|k| vec![("scene_material_kinds", f64::from(k))])
+        .unwrap_or_default();
+    let shader = match kinds {
+        Some(_) => wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(
+            passgraph::gpu::specialise::specialise(
+                &source.code,
+                Some((naga::ShaderStage::Compute, "main")),
+                &constants,
+            )
+            .expect("the probe specialises"),
+        )),
+        None => wgpu::ShaderSource::Wgsl(source.code.into()),
+    };
     let module = gpu
         .device
         .create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bsdf_probe"),
-            source: wgpu::ShaderSource::Wgsl(source.code.into()),
+            source: shader,
+        });
+    // An explicit layout, as the renderer's: specialising removes globals nothing reads (with
+    // Lambert only, the material table), which a layout derived from the module would lack.
+    let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bsdf_probe"),
+            entries: &[
+                storage(0, true),
+                storage(1, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::ReadOnly,
+                        format: wgpu::TextureFormat::Rgba32Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+            ],
+        });
+    let pipeline_layout = gpu
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bsdf_probe"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
         });
     let pipeline = gpu
         .device
         .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("bsdf_probe"),
-            layout: None,
+            layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some("main"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &kinds
-                    .map(|k| vec![("scene_material_kinds", f64::from(k))])
-                    .unwrap_or_default(),
-                ..Default::default()
-            },
+            compilation_options: Default::default(),
             cache: None,
         });
     let input = gpu
@@ -164,7 +213,7 @@ fn run_with_kinds(
     .create_view(&Default::default());
     let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
-        layout: &pipeline.get_bind_group_layout(0),
+        layout: &layout,
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,

@@ -61,6 +61,15 @@ impl Executor {
         })
     }
 
+    /// The passes whose pipelines were built from their WGSL as written, not specialised to
+    /// their override values (src/gpu/specialise.rs), each with why: (pass, reason).
+    pub fn unspecialised(&self) -> Vec<(&str, &str)> {
+        self.passes
+            .iter()
+            .filter_map(|p| Some((p.name.as_str(), p.unspecialised.as_deref()?)))
+            .collect()
+    }
+
     /// Records and submits one frame without waiting for it. wgpu orders the stages' accesses
     /// (the plan's barriers) by itself, from each dispatch's bindings.
     pub fn run_frame(&mut self, ctx: &GpuContext) -> Result<(), GpuError> {

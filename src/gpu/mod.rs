@@ -18,5 +18,6 @@ mod timing;
 pub use context::GpuContext;
 pub use error::GpuError;
 pub use executor::Executor;
+pub use pass::{pass_constants, specialise_pass};
 pub use provided_data::ProvidedData;
 pub use timing::FrameTimes;

@@ -23,6 +23,10 @@ pub struct PreparedPass {
     /// The `params` uniform and its length in bytes.
     pub params: Option<(wgpu::Buffer, u64)>,
     pub workgroups: [u32; 3],
+    /// Why the pipeline was built from the WGSL as written instead of the module specialised
+    /// to its override values (the same image; a slower pipeline to create); `None` when it
+    /// was specialised.
+    pub unspecialised: Option<String>,
 }
 
 /// A compute pass's pipeline, or a raster pass's with what its render pass needs.
@@ -63,21 +67,7 @@ impl PreparedPass {
                 max,
             });
         }
-        let mut constants: Vec<(&str, f64)> = pass
-            .overrides
-            .iter()
-            .map(|(name, value)| (name.as_str(), *value))
-            .collect();
-        for name in &pass.provided_overrides {
-            let value = provided
-                .overrides
-                .get(name)
-                .ok_or_else(|| GpuError::MissingOverride {
-                    pass: pass.name.clone(),
-                    name: name.clone(),
-                })?;
-            constants.push((name.as_str(), *value));
-        }
+        let constants = pass_constants(pass, provided)?;
         let draw = match &pass.raster {
             Some(raster) => {
                 let count = provided.overrides.get(&raster.triangles).ok_or_else(|| {
@@ -128,6 +118,43 @@ impl PreparedPass {
             })
         })
     }
+}
+
+/// The pipeline constants of `pass`: its params' overrides and the scene's values of the
+/// provided overrides it declares.
+pub fn pass_constants<'a>(
+    pass: &'a PlannedPass,
+    provided: &ProvidedData,
+) -> Result<Vec<(&'a str, f64)>, GpuError> {
+    let mut constants: Vec<(&str, f64)> = pass
+        .overrides
+        .iter()
+        .map(|(name, value)| (name.as_str(), *value))
+        .collect();
+    for name in &pass.provided_overrides {
+        let value = provided
+            .overrides
+            .get(name)
+            .ok_or_else(|| GpuError::MissingOverride {
+                pass: pass.name.clone(),
+                name: name.clone(),
+            })?;
+        constants.push((name.as_str(), *value));
+    }
+    Ok(constants)
+}
+
+/// The module of `pass` specialised to `constants` ([`specialise`]): what its pipeline is
+/// built from unless this fails.
+pub fn specialise_pass(
+    pass: &PlannedPass,
+    constants: &[(&str, f64)],
+) -> Result<naga::Module, String> {
+    let entry = match pass.raster {
+        Some(_) => None,
+        None => Some((naga::ShaderStage::Compute, pass.entry.as_str())),
+    };
+    specialise(&pass.shader.code, entry, constants)
 }
 
 /// A raster pass's attachments and vertex count.
@@ -203,16 +230,13 @@ fn create(
     });
 
     // The module specialised to this pass's override values, or the WGSL as written (then wgpu
-    // substitutes the values, and reports any error).
-    let entry = match pass.raster {
-        Some(_) => None,
-        None => Some((naga::ShaderStage::Compute, pass.entry.as_str())),
-    };
-    let (source, constants) = match specialise(&pass.shader.code, entry, constants) {
-        Some(module) => (wgpu::ShaderSource::Naga(Cow::Owned(module)), &[][..]),
-        None => (
+    // substitutes the values, and reports any error), and why.
+    let (source, constants, unspecialised) = match specialise_pass(pass, constants) {
+        Ok(module) => (wgpu::ShaderSource::Naga(Cow::Owned(module)), &[][..], None),
+        Err(why) => (
             wgpu::ShaderSource::Wgsl(pass.shader.code.as_str().into()),
             constants,
+            Some(why),
         ),
     };
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label, source });
@@ -309,6 +333,7 @@ fn create(
         bind_groups,
         params,
         workgroups: pass.workgroups,
+        unspecialised,
     }
 }
 

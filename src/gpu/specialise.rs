@@ -11,9 +11,11 @@
 //! local variables, and through calls of functions that return a known value), code after a
 //! `return`, `break` or `continue` is dropped, and what is left unused is compacted away.
 //!
-//! Anything this cannot do returns `None` and the caller hands wgpu the WGSL as before, so
-//! errors are still reported as wgpu reports them (reflection has already checked the shader
-//! and named its file and line).
+//! Anything this cannot do is an error saying which step failed; the caller then hands wgpu
+//! the WGSL as written, so errors are still reported as wgpu reports them (reflection has
+//! already checked the shader and named its file and line), and reports the fallback: a pass
+//! built from the WGSL renders the same image, but its pipeline is slower to create
+//! (tests/specialise_shipped.rs checks every shipped pass specialises).
 
 use crate::graph::reflect::NAGA_STACK_BYTES;
 use naga::back::pipeline_constants::process_overrides;
@@ -26,12 +28,12 @@ use naga::{
 use std::collections::{HashMap, HashSet};
 
 /// The module wgpu would compile for `entry` (every entry point when `None`) with `constants`
-/// substituted, its dead branches removed; `None` if any step fails.
+/// substituted, its dead branches removed; an error naming the step that failed.
 pub fn specialise(
     code: &str,
     entry: Option<(ShaderStage, &str)>,
     constants: &[(&str, f64)],
-) -> Option<Module> {
+) -> Result<Module, String> {
     // On a thread with reflection's stack (naga recurses per operand of long expressions), and
     // a panic inside naga is one more thing to leave to the WGSL path.
     std::thread::scope(|scope| {
@@ -39,9 +41,9 @@ pub fn specialise(
             .name("naga specialise".into())
             .stack_size(NAGA_STACK_BYTES)
             .spawn_scoped(scope, || specialise_here(code, entry, constants))
-            .ok()?
+            .map_err(|e| format!("cannot start naga's thread: {e}"))?
             .join()
-            .ok()?
+            .map_err(|_| "naga panicked".to_string())?
     })
 }
 
@@ -49,21 +51,27 @@ fn specialise_here(
     code: &str,
     entry: Option<(ShaderStage, &str)>,
     constants: &[(&str, f64)],
-) -> Option<Module> {
-    let module = naga::front::wgsl::parse_str(code).ok()?;
-    let info = validator().validate(&module).ok()?;
+) -> Result<Module, String> {
+    let module = naga::front::wgsl::parse_str(code)
+        .map_err(|e| format!("naga cannot parse the WGSL: {e}"))?;
+    let info = validator()
+        .validate(&module)
+        .map_err(|e| format!("naga does not validate the WGSL: {e}"))?;
     let constants: naga::back::PipelineConstants = constants
         .iter()
         .map(|(name, value)| (name.to_string(), *value))
         .collect();
-    let (module, _) = process_overrides(&module, &info, entry, &constants).ok()?;
+    let (module, _) = process_overrides(&module, &info, entry, &constants)
+        .map_err(|e| format!("naga cannot substitute the override values: {e}"))?;
     let mut module = module.into_owned();
     fold_module(&mut module);
     compact(&mut module, KeepUnused::No);
     // The result must be as valid as its source: wgpu validates it again, but an error there
     // would name no file; the WGSL path reports it instead.
-    validator().validate(&module).ok()?;
-    Some(module)
+    validator()
+        .validate(&module)
+        .map_err(|e| format!("the specialised module does not validate: {e}"))?;
+    Ok(module)
 }
 
 fn validator() -> Validator {
@@ -687,14 +695,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
     #[test]
     fn what_cannot_be_specialised_is_left_to_wgpu() {
-        assert!(specialise("fn main( {", None, &[]).is_none());
+        let e = specialise("fn main( {", None, &[]).unwrap_err();
+        assert!(e.starts_with("naga cannot parse the WGSL"), "{e}");
+        let e = specialise(
+            SHADER,
+            Some((ShaderStage::Compute, "main")),
+            &[("nope", 1.0)],
+        )
+        .unwrap_err();
         assert!(
-            specialise(
-                SHADER,
-                Some((ShaderStage::Compute, "main")),
-                &[("nope", 1.0)]
-            )
-            .is_none()
+            e.starts_with("naga cannot substitute the override values"),
+            "{e}"
         );
     }
 }

@@ -558,6 +558,12 @@ impl Session {
         Ok(self.executor.write_resource(name, &all)?)
     }
 
+    /// The passes whose pipelines are not specialised to their override values, with why
+    /// (see [`Executor::unspecialised`]): they render the same, but took longer to create.
+    pub fn unspecialised(&self) -> Vec<(&str, &str)> {
+        self.executor.unspecialised()
+    }
+
     /// Samples dropped so far because a channel was NaN or infinite.
     pub fn dropped(&self) -> Result<u32, RenderError> {
         let bytes = self.executor.read_resource(DROPPED)?;
