@@ -549,6 +549,30 @@ fn override_without_default_or_param_is_an_error() {
 }
 
 #[test]
+fn a_pass_files_default_that_disagrees_with_its_overrides_default_is_an_error_naming_both() {
+    let s = Scratch::new();
+    s.edit(
+        "shaders/temporal.wgsl",
+        "override HISTORY_WEIGHT: f32 = 0.9;",
+        "override HISTORY_WEIGHT: f32 = 0.8;",
+    );
+    let (e, msg) = s.error("graphs/history.ron");
+    assert!(
+        matches!(e, GraphError::OverrideDefaultDisagrees { .. }),
+        "{msg}"
+    );
+    assert_mentions(
+        &msg,
+        &[
+            "passes/temporal.ron",
+            "'HISTORY_WEIGHT' defaults to F32(0.9)",
+            "temporal.wgsl:2",
+            "defaults to 0.8",
+        ],
+    );
+}
+
+#[test]
 fn invalid_resource_declarations_are_rejected() {
     for (from, to, why) in [
         ("layers: 3", "layers: 0", "layers"),

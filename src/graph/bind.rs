@@ -122,6 +122,20 @@ pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<()
             Some(value) if value.ty() != o.ty => {
                 return Err(wrong_type(&o.name, o.ty.to_string(), value));
             }
+            Some(value) if o.default.as_ref().is_some_and(|d| d != value) => {
+                let (file, line, _) = pass.shader.locate(o.offset.unwrap_or(0));
+                return Err(GraphError::OverrideDefaultDisagrees {
+                    pass_file: pass.file.clone(),
+                    shader: file,
+                    line,
+                    name: o.name.clone(),
+                    ron: format!("{value:?}"),
+                    wgsl: o
+                        .default
+                        .as_ref()
+                        .map_or(String::new(), |d| d.wgsl_literal()),
+                });
+            }
             None if !o.has_default => {
                 return Err(GraphError::OverrideWithoutValue {
                     pass_file: pass.file.clone(),

@@ -202,6 +202,18 @@ pub enum GraphError {
         name: String,
     },
 
+    #[error("{}: param '{name}' defaults to {ron} here, but its `override {name}` in {}:{line} defaults to {wgsl}; one value, two places that disagree: make them agree (the pass file's is the one used)",
+        pass_file.display(), shader.display())]
+    OverrideDefaultDisagrees {
+        pass_file: PathBuf,
+        /// The file (the shader or one it includes) and line of the override.
+        shader: PathBuf,
+        line: usize,
+        name: String,
+        ron: String,
+        wgsl: String,
+    },
+
     #[error("{}: resource '{resource}': {reason}", graph.display())]
     InvalidResource {
         graph: PathBuf,

@@ -1,7 +1,7 @@
 //! What a pass's shader exposes, as reflected by naga: the contract the graph is checked against.
 
 use super::format::{SampleKind, TextureDim, TextureFormat};
-use super::param::ParamType;
+use super::param::{ParamType, ParamValue};
 use std::fmt;
 
 /// How a pass touches a resource, for hazard analysis.
@@ -122,6 +122,11 @@ pub struct ShaderOverride {
     pub name: String,
     pub ty: ParamType,
     pub has_default: bool,
+    /// The default's value when it is a literal (`= 4u`), for checking a pass file's param
+    /// against it; `None` without a default or when it is an expression.
+    pub default: Option<ParamValue>,
+    /// Byte offset of the declaration in the shader's code (see `ShaderSource::locate`).
+    pub offset: Option<usize>,
 }
 
 /// Everything the graph compiler needs to know about one pass's shader.

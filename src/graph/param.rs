@@ -28,6 +28,19 @@ pub enum ParamType {
 }
 
 impl ParamValue {
+    /// The value as WGSL writes it (`4u`, `-1i`, `0.5`, `true`): for messages.
+    pub fn wgsl_literal(&self) -> String {
+        match self {
+            ParamValue::F32(v) => format!("{v:?}"),
+            ParamValue::U32(v) => format!("{v}u"),
+            ParamValue::I32(v) => format!("{v}i"),
+            ParamValue::Bool(v) => v.to_string(),
+            ParamValue::Vec2(..) | ParamValue::Vec3(..) | ParamValue::Vec4(..) => {
+                format!("{self:?}")
+            }
+        }
+    }
+
     pub fn ty(&self) -> ParamType {
         match self {
             ParamValue::F32(_) => ParamType::F32,

@@ -7,7 +7,7 @@ use super::interface::{
     Access, BindingKind, FragmentOutput, ParamBlock, ParamField, ShaderBinding, ShaderInterface,
     ShaderOverride,
 };
-use super::param::ParamType;
+use super::param::{ParamType, ParamValue};
 use super::shader_source::ShaderSource;
 use naga::common::wgsl::{ToWgsl, TypeContext};
 use naga::valid::{Capabilities, ValidationError, ValidationFlags, Validator};
@@ -324,7 +324,7 @@ fn reflect_module(
     bindings.sort_by_key(|b| (b.group, b.binding));
 
     let mut overrides = Vec::new();
-    for (_, item) in module.overrides.iter() {
+    for (handle, item) in module.overrides.iter() {
         let Some(name) = &item.name else { continue };
         // Pipelines set overrides by name, but WebGPU keys an `@id` override by its number.
         if let Some(id) = item.id {
@@ -344,10 +344,21 @@ fn reflect_module(
                 ),
             )
         })?;
+        let default = item
+            .init
+            .and_then(|init| match module.global_expressions[init] {
+                naga::Expression::Literal(literal) => literal_value(literal),
+                _ => None,
+            });
+        let span = module.overrides.get_span(handle);
         overrides.push(ShaderOverride {
             name: name.clone(),
             ty,
             has_default: item.init.is_some(),
+            default,
+            offset: span
+                .is_defined()
+                .then(|| span.to_range().map_or(0, |r| r.start)),
         });
     }
 
@@ -713,6 +724,17 @@ fn uniform_field_type(inner: &TypeInner) -> Option<ParamType> {
             VectorSize::Tri => ParamType::Vec3,
             VectorSize::Quad => ParamType::Vec4,
         }),
+        _ => None,
+    }
+}
+
+/// A literal override default as a param value (the override types: bool, f32, u32, i32).
+fn literal_value(literal: naga::Literal) -> Option<ParamValue> {
+    match literal {
+        naga::Literal::Bool(b) => Some(ParamValue::Bool(b)),
+        naga::Literal::F32(f) => Some(ParamValue::F32(f)),
+        naga::Literal::U32(u) => Some(ParamValue::U32(u)),
+        naga::Literal::I32(i) => Some(ParamValue::I32(i)),
         _ => None,
     }
 }
