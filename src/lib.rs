@@ -1,5 +1,8 @@
 //! passgraph: a render-graph framework on wgpu whose passes are WGSL compute shaders declared in
-//! RON. The `graph` module compiles graph files to a `Plan` without touching a GPU.
+//! RON, and its first application, a progressive path tracer. The layers are crates: `graph`
+//! (passgraph-graph) compiles graph files to a `Plan` without touching a GPU, `gpu`
+//! (passgraph-gpu) runs a plan on wgpu; this crate is the path tracer (scene, render, bench,
+//! view) and re-exports both under their old paths.
 
 // GraphError carries paths and names for its messages; it is built once, on the error path.
 #![allow(clippy::result_large_err)]
@@ -8,13 +11,14 @@ pub mod atomic_write;
 pub mod bench;
 pub mod bsdf;
 pub mod builtin;
-pub mod gpu;
-pub mod graph;
 pub mod graphtest;
 pub mod render;
 pub mod scene;
-pub mod text_file;
 pub mod view;
+
+pub use passgraph_gpu as gpu;
+pub use passgraph_graph as graph;
+pub use passgraph_graph::text_file;
 
 pub use graph::dot::to_dot;
 pub use graph::error::GraphError;

@@ -126,7 +126,7 @@ fn run_with_kinds(
     let path = root().join("tests/data/bsdf/bsdf_probe.wgsl");
     let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
     // With `kinds`, the module the renderer would build: specialised by
-    // src/gpu/specialise.rs to that value (dead models removed), not wgpu's substitution.
+    // crates/gpu/src/specialise.rs to that value (dead models removed), not wgpu's substitution.
     let constants: Vec<(&str, f64)> = kinds
         .map(|k| vec![("scene_material_kinds", f64::from(k))])
         .unwrap_or_default();

@@ -1,6 +1,6 @@
 //! What a scene without Beckmann microfacets or complex-index conductors pays for them:
 //! nothing. The BSDF library (through tests/data/bsdf/bsdf_probe.wgsl) specialised as the
-//! renderer specialises a pass (src/gpu/specialise.rs) to `scene_has_beckmann` and
+//! renderer specialises a pass (crates/gpu/src/specialise.rs) to `scene_has_beckmann` and
 //! `scene_has_conductor_fresnel` false keeps none of their code, and with them true keeps it.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Composition (src/graph/compose.rs): the shipped variants, written as differences from their
+//! Composition (crates/graph/src/compose.rs): the shipped variants, written as differences from their
 //! base, flatten to exactly the full files they replaced (kept in tests/data/graphs-flat/), and
 //! every bad `extends`, `include` or change is an error naming the file that made it.
 

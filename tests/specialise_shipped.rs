@@ -1,4 +1,4 @@
-//! Every shipped pass specialises (src/gpu/specialise.rs): its pipeline is built from the
+//! Every shipped pass specialises (crates/gpu/src/specialise.rs): its pipeline is built from the
 //! module with the scene's override values substituted and dead branches removed, not from the
 //! WGSL as written. A pass that fell back would render the same image with a pipeline several
 //! times slower to create (0.5-0.6 s against 0.15-0.19 s for the path pass on lavapipe), so

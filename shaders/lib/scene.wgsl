@@ -245,7 +245,7 @@ struct Frame {
 // Texel views: a pass may bind scene.triangles, scene.materials, scene.lights and scene.bvh as
 // texture_storage_2d<rgba32uint, read> instead of storage buffers, and read them with the functions below. The
 // framework stores the same bytes as 16-byte texels, row-major, in rows of a power-of-two
-// width (src/gpu/texels.rs). Texel fetches are several times cheaper than storage-buffer loads
+// width (crates/gpu/src/texels.rs). Texel fetches are several times cheaper than storage-buffer loads
 // on lavapipe, which gathers the latter lane by lane.
 
 // Texel i of a texel view.

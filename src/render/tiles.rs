@@ -6,7 +6,7 @@
 //! `frame` uniform carries the tile's origin in the image and the image's size; camera rays and
 //! sampler seeds follow the pixel's place in the image (shaders/lib/camera_ray.wgsl,
 //! shaders/lib/sampler.wgsl), so a tiled image equals the whole render bit for bit. Only graphs
-//! whose passes all declare `footprint: Pixel` (src/graph/decl.rs) are tiled: a filter or a
+//! whose passes all declare `footprint: Pixel` (crates/graph/src/decl.rs) are tiled: a filter or a
 //! reprojection reads other pixels, which a tile's edge would lack. Tiles are rendered one after
 //! another, all frames of one tile, then the next, so only one tile's resources are alive; a
 //! session is reused for the next tile of its size (pipelines are built once per tile size).

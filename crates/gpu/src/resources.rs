@@ -9,12 +9,14 @@ use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::readback::read_mapped;
 use super::texels::create_texel_view;
-use crate::graph::format::{TextureDim, TextureFormat};
-use crate::graph::id::ResourceId;
-use crate::graph::interface::BindingKind;
-use crate::graph::plan::{PhysicalResource, Plan, PlannedBinding, PlannedResource, ResourceKind};
-use crate::graph::provided::ProvidedKind;
-use crate::graph::schedule::Usage;
+use passgraph_graph::format::{TextureDim, TextureFormat};
+use passgraph_graph::id::ResourceId;
+use passgraph_graph::interface::BindingKind;
+use passgraph_graph::plan::{
+    PhysicalResource, Plan, PlannedBinding, PlannedResource, ResourceKind,
+};
+use passgraph_graph::provided::ProvidedKind;
+use passgraph_graph::schedule::Usage;
 use std::collections::BTreeMap;
 use wgpu::util::DeviceExt;
 

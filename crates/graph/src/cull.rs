@@ -85,8 +85,8 @@ pub fn cull_reason<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::graph::deps::dependencies;
-    use crate::graph::interface::Access;
+    use crate::deps::dependencies;
+    use crate::interface::Access;
 
     fn u(resource: usize, access: Access) -> PassUse {
         PassUse {

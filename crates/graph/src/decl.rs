@@ -104,7 +104,7 @@ pub enum Dispatch {
 
 /// `graphs/<name>.ron`: resources, pass instances in program order, and outputs — or, with
 /// `extends`, the changes to another graph, and subgraphs joined with `include`
-/// (src/graph/compose.rs applies them; after that only the first three fields are set).
+/// (crates/graph/src/compose.rs applies them; after that only the first three fields are set).
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(rename = "Graph", deny_unknown_fields)]
 pub struct GraphDecl {
@@ -172,7 +172,7 @@ pub struct IncludeDecl {
 }
 
 /// `key: value` for an optional value, without RON's `Some(...)`.
-pub(crate) fn plain_option<'de, D, T>(deserializer: D) -> Result<Option<T>, D::Error>
+pub fn plain_option<'de, D, T>(deserializer: D) -> Result<Option<T>, D::Error>
 where
     D: Deserializer<'de>,
     T: Deserialize<'de>,
@@ -255,7 +255,7 @@ pub struct PassInstanceDecl {
 
 /// A map whose every key appears once: serde's own maps keep the last of two equal keys
 /// silently, which hides a typo'd copy-paste. The error is positioned at the repeated key.
-pub(crate) fn unique_keys<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
+pub fn unique_keys<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
 where
     D: Deserializer<'de>,
     V: Deserialize<'de>,

@@ -1,7 +1,7 @@
 //! The graph's wgpu-free descriptions translated to wgpu's types.
 
-use crate::graph::format::{SampleKind, TextureDim, TextureFormat};
-use crate::graph::interface::{Access, BindingKind};
+use passgraph_graph::format::{SampleKind, TextureDim, TextureFormat};
+use passgraph_graph::interface::{Access, BindingKind};
 
 pub fn texture_format(format: TextureFormat) -> wgpu::TextureFormat {
     use wgpu::TextureFormat as W;

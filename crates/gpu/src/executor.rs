@@ -8,8 +8,8 @@ use super::pass::{Pipeline, PreparedPass, RenderDraw};
 use super::provided_data::ProvidedData;
 use super::resources::{GpuResources, write_padded};
 use super::timing::{FrameTimes, StageTimer};
-use crate::graph::id::KeptPass;
-use crate::graph::plan::Plan;
+use passgraph_graph::id::KeptPass;
+use passgraph_graph::plan::Plan;
 
 pub struct Executor {
     // Kept so reads and uploads need no context argument.
@@ -62,7 +62,7 @@ impl Executor {
     }
 
     /// The passes whose pipelines were built from their WGSL as written, not specialised to
-    /// their override values (src/gpu/specialise.rs), each with why: (pass, reason).
+    /// their override values (crates/gpu/src/specialise.rs), each with why: (pass, reason).
     pub fn unspecialised(&self) -> Vec<(&str, &str)> {
         self.passes
             .iter()

@@ -3,8 +3,8 @@
 //! error names the resource or pass, the limit and what to change.
 
 use super::error::GpuError;
-use crate::graph::interface::BindingKind;
-use crate::graph::plan::{Plan, ResourceKind};
+use passgraph_graph::interface::BindingKind;
+use passgraph_graph::plan::{Plan, ResourceKind};
 
 /// Checks every resource the plan allocates and every kept pass against `limits` and
 /// `features` (the device's).

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 /// `'a', 'b'` or `none`: how messages list names.
-pub(crate) fn list(items: &[String]) -> String {
+pub fn list(items: &[String]) -> String {
     if items.is_empty() {
         "none".to_string()
     } else {

@@ -1,7 +1,7 @@
 //! Every way setting up or running a plan on the GPU can fail, each naming the adapter, pass or
 //! resource at fault.
 
-use crate::graph::error::list;
+use passgraph_graph::error::list;
 use thiserror::Error;
 
 /// What to tell a user whose machine exposes no adapter passgraph can use.

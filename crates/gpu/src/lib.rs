@@ -1,5 +1,8 @@
-//! Running a compiled `Plan` on wgpu: a headless device, the plan's resources, and an
-//! executor that records one compute pass per stage each frame.
+//! passgraph's executor: running a compiled `Plan` (passgraph-graph) on wgpu: a headless
+//! device, the plan's resources, and an executor that records one compute pass per stage each
+//! frame.
+
+#![allow(clippy::result_large_err)]
 
 pub mod context;
 mod convert;

@@ -17,7 +17,6 @@
 //! built from the WGSL renders the same image, but its pipeline is slower to create
 //! (tests/specialise_shipped.rs checks every shipped pass specialises).
 
-use crate::graph::reflect::NAGA_STACK_BYTES;
 use naga::back::pipeline_constants::process_overrides;
 use naga::compact::{KeepUnused, compact};
 use naga::valid::{Capabilities, ValidationFlags, Validator};
@@ -25,6 +24,7 @@ use naga::{
     BinaryOperator, Block, Expression, Function, Handle, Literal, LocalVariable, Module,
     ShaderStage, Statement, UnaryOperator,
 };
+use passgraph_graph::reflect::NAGA_STACK_BYTES;
 use std::collections::{HashMap, HashSet};
 
 /// The module wgpu would compile for `entry` (every entry point when `None`) with `constants`

@@ -19,7 +19,7 @@ pub struct LoadedPass {
     pub interface: ShaderInterface,
 }
 
-/// A graph file, flattened (src/graph/compose.rs), with every pass it names.
+/// A graph file, flattened (crates/graph/src/compose.rs), with every pass it names.
 #[derive(Clone, Debug)]
 pub struct LoadedGraph {
     pub file: PathBuf,
@@ -192,7 +192,7 @@ impl LoadedGraph {
 }
 
 /// Drops `dir/..` pairs lexically so messages show `passes/x.ron`, not `graphs/../passes/x.ron`.
-pub(crate) fn clean(path: &Path) -> PathBuf {
+pub fn clean(path: &Path) -> PathBuf {
     use std::path::Component;
     let mut out: Vec<Component> = Vec::new();
     for c in path.components() {
