@@ -7,7 +7,7 @@ use super::error::GpuError;
 use super::error_scope::capture_errors;
 use super::provided_data::ProvidedData;
 use super::resources::{BoundResource, GpuResources};
-use super::specialise::specialise;
+use super::specialise::{specialise, specialise_validated};
 use passgraph_graph::decl::LoadOp;
 use passgraph_graph::interface::BindingKind;
 use passgraph_graph::plan::PlannedPass;
@@ -154,7 +154,10 @@ pub fn specialise_pass(
         Some(_) => None,
         None => Some((naga::ShaderStage::Compute, pass.entry.as_str())),
     };
-    specialise(&pass.shader.code, entry, constants)
+    match pass.shader.validated() {
+        Some(shader) => specialise_validated(shader, entry, constants),
+        None => specialise(&pass.shader.code, entry, constants),
+    }
 }
 
 /// A raster pass's attachments and vertex count.

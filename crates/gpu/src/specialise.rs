@@ -19,28 +19,52 @@
 
 use naga::back::pipeline_constants::process_overrides;
 use naga::compact::{KeepUnused, compact};
-use naga::valid::{Capabilities, ValidationFlags, Validator};
+use naga::valid::{ValidationFlags, Validator};
 use naga::{
     BinaryOperator, Block, Expression, Function, Handle, Literal, LocalVariable, Module,
     ShaderStage, Statement, UnaryOperator,
 };
-use passgraph_graph::reflect::NAGA_STACK_BYTES;
+use passgraph_graph::reflect::{NAGA_STACK_BYTES, capabilities};
+use passgraph_graph::shader_source::ValidShader;
 use std::collections::{HashMap, HashSet};
 
 /// The module wgpu would compile for `entry` (every entry point when `None`) with `constants`
-/// substituted, its dead branches removed; an error naming the step that failed.
+/// substituted, its dead branches removed; an error naming the step that failed. Parses and
+/// validates `code` first; [`specialise_validated`] starts from a module reflection already
+/// validated.
 pub fn specialise(
     code: &str,
     entry: Option<(ShaderStage, &str)>,
     constants: &[(&str, f64)],
 ) -> Result<Module, String> {
-    // On a thread with reflection's stack (naga recurses per operand of long expressions), and
-    // a panic inside naga is one more thing to leave to the WGSL path.
+    on_naga_thread(|| {
+        let module = naga::front::wgsl::parse_str(code)
+            .map_err(|e| format!("naga cannot parse the WGSL: {e}"))?;
+        let info = validator()
+            .validate(&module)
+            .map_err(|e| format!("naga does not validate the WGSL: {e}"))?;
+        specialise_here(&ValidShader { module, info }, entry, constants)
+    })
+}
+
+/// [`specialise`] from the module reflection parsed and validated (`ShaderSource::validated`):
+/// no second parse.
+pub fn specialise_validated(
+    shader: &ValidShader,
+    entry: Option<(ShaderStage, &str)>,
+    constants: &[(&str, f64)],
+) -> Result<Module, String> {
+    on_naga_thread(|| specialise_here(shader, entry, constants))
+}
+
+/// Runs `f` on a thread with reflection's stack (naga recurses per operand of long
+/// expressions); a panic inside naga is one more thing to leave to the WGSL path.
+fn on_naga_thread<T: Send>(f: impl FnOnce() -> Result<T, String> + Send) -> Result<T, String> {
     std::thread::scope(|scope| {
         std::thread::Builder::new()
             .name("naga specialise".into())
             .stack_size(NAGA_STACK_BYTES)
-            .spawn_scoped(scope, || specialise_here(code, entry, constants))
+            .spawn_scoped(scope, f)
             .map_err(|e| format!("cannot start naga's thread: {e}"))?
             .join()
             .map_err(|_| "naga panicked".to_string())?
@@ -48,20 +72,15 @@ pub fn specialise(
 }
 
 fn specialise_here(
-    code: &str,
+    shader: &ValidShader,
     entry: Option<(ShaderStage, &str)>,
     constants: &[(&str, f64)],
 ) -> Result<Module, String> {
-    let module = naga::front::wgsl::parse_str(code)
-        .map_err(|e| format!("naga cannot parse the WGSL: {e}"))?;
-    let info = validator()
-        .validate(&module)
-        .map_err(|e| format!("naga does not validate the WGSL: {e}"))?;
     let constants: naga::back::PipelineConstants = constants
         .iter()
         .map(|(name, value)| (name.to_string(), *value))
         .collect();
-    let (module, _) = process_overrides(&module, &info, entry, &constants)
+    let (module, _) = process_overrides(&shader.module, &shader.info, entry, &constants)
         .map_err(|e| format!("naga cannot substitute the override values: {e}"))?;
     let mut module = module.into_owned();
     fold_module(&mut module);
@@ -74,8 +93,9 @@ fn specialise_here(
     Ok(module)
 }
 
+/// The framework's one capability policy, as reflection's (passgraph-graph).
 fn validator() -> Validator {
-    Validator::new(ValidationFlags::all(), Capabilities::all())
+    Validator::new(ValidationFlags::all(), capabilities())
 }
 
 /// A value known before the shader runs. Floats are not followed: no specialising condition

@@ -8,7 +8,7 @@ use super::interface::{
     ShaderOverride,
 };
 use super::param::{ParamType, ParamValue};
-use super::shader_source::ShaderSource;
+use super::shader_source::{ShaderSource, ValidShader};
 use naga::common::wgsl::{ToWgsl, TypeContext};
 use naga::valid::{Capabilities, ValidationError, ValidationFlags, Validator};
 use naga::{
@@ -50,7 +50,9 @@ const SUPPORTED_FORMATS: [TextureFormat; 17] = {
 /// What naga may accept. Reflection should not reject shaders the device would run (wgpu
 /// validates again when the pipeline is created), and should leave unsupported bindings to this
 /// module's own, clearer errors.
-fn capabilities() -> Capabilities {
+/// The framework's capability policy: what a shader may use. Reflection validates under it,
+/// and so does specialisation (passgraph-gpu), so a shader is judged by one rule.
+pub fn capabilities() -> Capabilities {
     // Core WebGPU: what wgpu grants a device with full downlevel support and no optional
     // features (`pack2x16float` and `quantizeToF16` need SHADER_FLOAT16_IN_FLOAT32).
     Capabilities::default()
@@ -371,7 +373,7 @@ fn reflect_module(
         .validate(&module)
         .is_err();
 
-    Ok(ShaderInterface {
+    let interface = ShaderInterface {
         entry: entries
             .first()
             .map_or(String::new(), |(_, e)| e.to_string()),
@@ -381,7 +383,9 @@ fn reflect_module(
         params,
         overrides,
         outputs,
-    })
+    };
+    source.keep_validated(ValidShader { module, info });
+    Ok(interface)
 }
 
 /// The `@location` outputs of a fragment entry point (a value or a struct of them), sorted.

@@ -4,6 +4,7 @@
 use super::error::GraphError;
 use std::collections::HashSet;
 use std::path::{Component, Path, PathBuf};
+use std::sync::{Arc, OnceLock};
 
 /// A shader's WGSL after the include step, with the map from `code` back to the source files.
 #[derive(Clone, Debug)]
@@ -16,6 +17,23 @@ pub struct ShaderSource {
     files: Vec<PathBuf>,
     /// Runs of consecutive lines from one file, ordered by `start`.
     segments: Vec<Segment>,
+    /// `code` parsed and validated once, by reflection; shared by every clone, so that
+    /// specialising a pass (passgraph-gpu) starts from it instead of parsing the WGSL again.
+    validated: OnceLock<Arc<ValidShader>>,
+}
+
+/// A shader's naga module and its validation info under the framework's capability policy
+/// ([`crate::reflect::capabilities`]).
+pub struct ValidShader {
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+}
+
+impl std::fmt::Debug for ValidShader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // The module would print thousands of lines into any failing test's message.
+        f.write_str("ValidShader { .. }")
+    }
 }
 
 /// `code[start..]` (up to the next segment) holds consecutive lines of `files[file]`,
@@ -28,6 +46,16 @@ struct Segment {
 }
 
 impl ShaderSource {
+    /// The module reflection parsed and validated, if reflection has run on this source.
+    pub fn validated(&self) -> Option<&ValidShader> {
+        self.validated.get().map(|v| v.as_ref())
+    }
+
+    /// Keeps the module reflection validated (the first one kept stays).
+    pub(crate) fn keep_validated(&self, shader: ValidShader) {
+        let _ = self.validated.set(Arc::new(shader));
+    }
+
     /// Reads `path`, replacing each line `#include "rel/path.wgsl"` (leading whitespace allowed)
     /// by that file's content, recursively.
     ///
@@ -73,6 +101,7 @@ impl ShaderSource {
             code: builder.code,
             files: builder.files,
             segments: builder.segments,
+            validated: OnceLock::new(),
         })
     }
 
@@ -87,6 +116,7 @@ impl ShaderSource {
             }],
             path,
             code,
+            validated: OnceLock::new(),
         }
     }
 
