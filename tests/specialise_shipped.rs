@@ -12,7 +12,7 @@ use passgraph::gpu::{pass_constants, specialise_pass};
 use passgraph::graph::compile::compile;
 use passgraph::load_graph;
 use passgraph::render::provided::{ProvidedInputs, path_tracer, provided_data};
-use passgraph::render::tiles::Tile;
+use passgraph::render::tiling::Tile;
 use passgraph::scene::load_scene;
 
 /// Scenes whose override values differ: Lambert only with one light (Cornell), every material

@@ -3,7 +3,7 @@
 //! from a farm's preemption, SIGINT, SIGHUP) and when done; `render --resume CKPT.exr`
 //! continues from it, bit for bit the render that was never stopped (the compensated means and
 //! counts are restored as they were, and the sampler goes on at the next sample index:
-//! [`Session::resume_from`]). A checkpoint is an ordinary partial file (src/render/partial.rs),
+//! `Session::restore`). A checkpoint is an ordinary partial file (src/render/partial.rs),
 //! so it also merges with partials of the ranges after it.
 //!
 //! A render in tiles (src/render/tiles.rs) takes one tile after another: its checkpoint holds
@@ -15,8 +15,7 @@
 //! while writing one, even by SIGKILL, leaves the previous checkpoint as it was.
 
 use super::fingerprint::Fingerprint;
-use super::partial::{Packing, Partial, SampleRange};
-use super::session::Session;
+use super::partial::{Packing, Partial};
 use super::tiles::ImageRender;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -71,31 +70,6 @@ impl Checkpoints {
         costs.sort();
         costs.get(costs.len() / 2).copied()
     }
-}
-
-/// The accumulation of `session` so far as a partial file of samples `start..start + n`.
-pub fn accumulation(
-    session: &Session,
-    start: u32,
-    fingerprint: &Fingerprint,
-    source: &str,
-) -> Result<Partial, String> {
-    let samples = SampleRange {
-        start,
-        end: start + session.accumulated(),
-    };
-    if samples.is_empty() {
-        return Err("no frame is rendered yet: nothing to write".into());
-    }
-    Partial::from_buffers(
-        session.tile().image,
-        samples,
-        u64::from(session.dropped().map_err(|e| e.to_string())?),
-        fingerprint.clone(),
-        source.to_string(),
-        &session.result().map_err(|e| e.to_string())?,
-        &session.compensation().map_err(|e| e.to_string())?,
-    )
 }
 
 /// Restores `checkpoint` (read from `path`) into the render about to do samples

@@ -7,7 +7,7 @@ use crate::gpu::ProvidedData;
 use crate::graph::param::ParamType;
 use crate::graph::provided::{ProvidedKind, ProvidedSet};
 use crate::render::tile_order::tile_row_stride;
-use crate::render::tiles::Tile;
+use crate::render::tiling::Tile;
 use crate::scene::gpu::{Frame, GpuCamera};
 use crate::scene::{Scene, SceneGpu};
 use bytemuck::Zeroable;

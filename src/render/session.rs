@@ -3,11 +3,12 @@
 use super::channels::ChannelSelection;
 use super::image::RgbImage;
 use super::output_texture::{output_texture_format, texture_channel, texture_image};
-use super::partial::{Partial, Plane, SampleRange, planes_to_result};
+use super::planes::{Plane, planes_to_result};
 use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
-use super::tiles::Tile;
+use super::sample_range::SampleRange;
+use super::tiling::Tile;
 use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
@@ -465,30 +466,13 @@ impl Session {
             .map(|r| r.name.as_str())
     }
 
-    /// Continues the accumulation a checkpoint holds (a partial file of this render's samples
-    /// `first_sample..first_sample + n`, of this session's size): its means, their rounding
-    /// errors, counts and dropped samples go back into the buffers, and the next frame draws
-    /// sample `first_sample + n`, so the render goes on bit for bit as if it had never stopped.
-    /// The caller has checked the partial's fingerprint against this render's.
-    pub fn resume_from(&mut self, partial: &Partial) -> Result<(), RenderError> {
-        if partial.size != self.size || partial.progress.is_some() {
-            return Err(RenderError::Other(format!(
-                "the checkpoint is {}x{}{}, this render {}x{}",
-                partial.size[0],
-                partial.size[1],
-                partial
-                    .progress
-                    .map_or(String::new(), |p| format!(" in tiles ({p})")),
-                self.size[0],
-                self.size[1]
-            )));
-        }
-        self.restore(partial.samples, partial.dropped, &partial.planes)
-    }
-
-    /// [`Session::resume_from`] for the planes of this session's tile holding `samples`, of
-    /// which `dropped` were dropped.
-    pub(crate) fn restore(
+    /// Continues the accumulation a checkpoint holds: `planes` of this session's tile, holding
+    /// this render's samples `first_sample..first_sample + n` (`samples`), of which `dropped`
+    /// were dropped. The means, their rounding errors, counts and dropped samples go back into
+    /// the buffers, and the next frame draws sample `first_sample + n`, so the render goes on bit
+    /// for bit as if it had never stopped. The caller has checked the checkpoint's fingerprint
+    /// against this render's (src/render/checkpoint.rs).
+    pub fn restore(
         &mut self,
         samples: SampleRange,
         dropped: u64,

@@ -15,93 +15,21 @@
 use super::channels::ChannelSelection;
 use super::fingerprint::Fingerprint;
 use super::image::RgbImage;
-use super::partial::{
-    Partial, Plane, SampleRange, TileProgress, cut_tile, paste_tile, planes_from_buffers,
-    planes_to_result, zero_planes,
+use super::partial::{Partial, SampleRange, TileProgress};
+use super::planes::{
+    Plane, cut_tile, paste_tile, planes_from_buffers, planes_to_result, zero_planes,
 };
 use super::session::{
     RenderError, RenderSettings, Session, compile_for, load_scene_for, prepare_graph,
 };
 use super::tile_order::TILE;
+use super::tiling::{Tile, Tiling};
 use crate::gpu::GpuContext;
 use crate::gpu::limits::check_limits;
 use crate::graph::decl::{Footprint, ResourceDecl, TextureSize};
 use crate::graph::load::{LoadedGraph, load_graph};
 use crate::graph::plan::Plan;
 use crate::scene::{Scene, SceneGpu};
-
-/// The part of the image a session renders: a tile, or the whole image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Tile {
-    /// Its top-left pixel in the image.
-    pub origin: [u32; 2],
-    pub size: [u32; 2],
-    /// The whole image's size.
-    pub image: [u32; 2],
-}
-
-impl Tile {
-    pub fn whole(size: [u32; 2]) -> Tile {
-        Tile {
-            origin: [0, 0],
-            size,
-            image: size,
-        }
-    }
-}
-
-/// An image cut into tiles of `tile` pixels, row by row; the last column and row are narrower
-/// where the tile does not divide the image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Tiling {
-    pub image: [u32; 2],
-    pub tile: [u32; 2],
-}
-
-impl Tiling {
-    /// Tile sides must be multiples of 8, so that the passes' 8x8 workgroups (and the subgroups
-    /// within them that shaders/path_reuse.wgsl shares work across) cover the same pixels as in
-    /// the whole image; a side at least the image's is the image's.
-    pub fn new(image: [u32; 2], tile: [u32; 2]) -> Result<Tiling, String> {
-        let tile = [tile[0].min(image[0]), tile[1].min(image[1])];
-        for k in 0..2 {
-            if !tile[k].is_multiple_of(TILE) && tile[k] != image[k] {
-                return Err(format!(
-                    "tile {}x{}: each side must be a multiple of {TILE} (the passes' workgroups are {TILE}x{TILE} pixels) or the image's ({}x{})",
-                    tile[0], tile[1], image[0], image[1]
-                ));
-            }
-        }
-        Ok(Tiling { image, tile })
-    }
-
-    /// Every tile, row by row.
-    pub fn tiles(&self) -> Vec<Tile> {
-        let [w, h] = self.image;
-        let [tw, th] = self.tile;
-        (0..h.div_ceil(th))
-            .flat_map(|row| {
-                (0..w.div_ceil(tw)).map(move |column| {
-                    let origin = [column * tw, row * th];
-                    Tile {
-                        origin,
-                        size: [tw.min(w - origin[0]), th.min(h - origin[1])],
-                        image: self.image,
-                    }
-                })
-            })
-            .collect()
-    }
-
-    /// Every tile in the order a render takes them: grouped by size, largest first, so that
-    /// one session serves each run of equal tiles; row by row within a size.
-    pub fn in_rendering_order(&self) -> Vec<Tile> {
-        let mut tiles = self.tiles();
-        // Stable: row order within each size.
-        tiles.sort_by_key(|t| std::cmp::Reverse(t.size));
-        tiles
-    }
-}
 
 /// Why the graph cannot be rendered in tiles, naming the pass or resource; `None` if it can.
 pub fn untileable(graph: &LoadedGraph, plan: &Plan) -> Option<String> {
@@ -258,7 +186,14 @@ impl ImageRender {
                     "the checkpoint is of a render in tiles of {}x{} stopped inside a tile: resume it in tiles of that size (--tile {}x{})",
                     p.tile[0], p.tile[1], p.tile[0], p.tile[1]
                 ))),
-                None => s.resume_from(checkpoint),
+                None if checkpoint.size != s.tile().size => Err(RenderError::Other(format!(
+                    "the checkpoint is {}x{}, this render {}x{}",
+                    checkpoint.size[0],
+                    checkpoint.size[1],
+                    s.tile().size[0],
+                    s.tile().size[1]
+                ))),
+                None => s.restore(checkpoint.samples, checkpoint.dropped, &checkpoint.planes),
             },
             ImageRender::Tiled(t) => t.resume_from(checkpoint),
         }
@@ -274,7 +209,7 @@ impl ImageRender {
         source: &str,
     ) -> Result<Partial, String> {
         match self {
-            ImageRender::Whole(s) => super::checkpoint::accumulation(s, start, fingerprint, source),
+            ImageRender::Whole(s) => whole_accumulation(s, start, fingerprint, source),
             ImageRender::Tiled(t) => t.accumulation(start, fingerprint, source),
         }
     }
@@ -717,6 +652,31 @@ impl TiledRender {
     }
 }
 
+/// The accumulation of `session` so far as a partial file of samples `start..start + n`.
+fn whole_accumulation(
+    session: &Session,
+    start: u32,
+    fingerprint: &Fingerprint,
+    source: &str,
+) -> Result<Partial, String> {
+    let samples = SampleRange {
+        start,
+        end: start + session.accumulated(),
+    };
+    if samples.is_empty() {
+        return Err("no frame is rendered yet: nothing to write".into());
+    }
+    Partial::from_buffers(
+        session.tile().image,
+        samples,
+        u64::from(session.dropped().map_err(|e| e.to_string())?),
+        fingerprint.clone(),
+        source.to_string(),
+        &session.result().map_err(|e| e.to_string())?,
+        &session.compensation().map_err(|e| e.to_string())?,
+    )
+}
+
 /// Samples of `frames` per pixel that the counts of `planes` leave out.
 fn dropped_of(planes: &[Plane], frames: u32) -> u64 {
     planes.first().map_or(0, |p| {
@@ -743,31 +703,6 @@ fn tile_session(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn tiles_cover_the_image_once_with_narrower_last_ones() {
-        let tiling = Tiling::new([48, 40], [32, 24]).unwrap();
-        let tiles = tiling.tiles();
-        let sizes: Vec<_> = tiles.iter().map(|t| (t.origin, t.size)).collect();
-        assert_eq!(
-            sizes,
-            [
-                ([0, 0], [32, 24]),
-                ([32, 0], [16, 24]),
-                ([0, 24], [32, 16]),
-                ([32, 24], [16, 16])
-            ]
-        );
-        let area: u32 = tiles.iter().map(|t| t.size[0] * t.size[1]).sum();
-        assert_eq!(area, 48 * 40);
-    }
-
-    #[test]
-    fn tile_sides_are_multiples_of_8_or_the_image() {
-        assert!(Tiling::new([48, 40], [20, 16]).is_err());
-        assert_eq!(Tiling::new([50, 40], [64, 16]).unwrap().tile, [50, 16]);
-        assert!(Tiling::new([50, 44], [50, 44]).is_ok());
-    }
 
     #[test]
     fn the_largest_tiling_is_even_and_fits() {

@@ -173,7 +173,7 @@ pub(crate) fn render(mut args: RenderArgs) -> Result<(), Failure> {
     let mut tile = args.tile;
     if let Some(progress) = checkpoint_in.as_ref().and_then(|(_, c)| c.progress) {
         let asked = tile
-            .map(|t| passgraph::render::tiles::Tiling::new(size, t).map(|t| t.tile))
+            .map(|t| passgraph::render::tiling::Tiling::new(size, t).map(|t| t.tile))
             .transpose()
             .map_err(Failure::Usage)?;
         if asked.is_some_and(|t| t != progress.tile) {
@@ -446,7 +446,7 @@ fn check_before_rendering(
         check_output_path(path).map_err(Failure::Usage)?;
     }
     if let Some(tile) = args.tile {
-        passgraph::render::tiles::Tiling::new(size, tile).map_err(Failure::Usage)?;
+        passgraph::render::tiling::Tiling::new(size, tile).map_err(Failure::Usage)?;
     }
     if let Some(path) = &args.partial {
         check_partial_path(path, &args.out).map_err(Failure::Usage)?;
