@@ -18,12 +18,12 @@ pub(crate) struct GraphArgs {
     pub(crate) size: [u32; 2],
 }
 
+/// The scene and what replaces parts of it: shared by `render`, `view` and `bench`.
 #[derive(clap::Args)]
-pub(crate) struct ViewArgs {
-    #[arg(long, default_value = DEFAULT_GRAPH)]
-    pub(crate) graph: PathBuf,
-    #[arg(long, default_value = DEFAULT_SCENE)]
-    pub(crate) scene: PathBuf,
+pub(crate) struct SceneArgs {
+    /// The scene file: RON naming a mesh and a camera, or a Mitsuba 3 scene (.xml).
+    #[arg(long = "scene", id = "scene", value_name = "SCENE", default_value = DEFAULT_SCENE)]
+    pub(crate) path: PathBuf,
     /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     pub(crate) define: Vec<(String, String)>,
@@ -33,6 +33,14 @@ pub(crate) struct ViewArgs {
     /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
     #[arg(long, value_parser = parse_max_depth)]
     pub(crate) max_depth: Option<u32>,
+}
+
+#[derive(clap::Args)]
+pub(crate) struct ViewArgs {
+    #[arg(long, default_value = DEFAULT_GRAPH)]
+    pub(crate) graph: PathBuf,
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
     /// Image size, WxH; the window starts at twice this.
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     pub(crate) size: [u32; 2],

@@ -10,17 +10,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub(crate) struct BenchArgs {
-    #[arg(long, default_value = DEFAULT_SCENE)]
-    pub(crate) scene: PathBuf,
-    /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
-    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub(crate) define: Vec<(String, String)>,
-    /// A glTF scene's camera, by its name or its node's (default: the first).
-    #[arg(long, value_name = "NAME")]
-    pub(crate) camera: Option<String>,
-    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
-    #[arg(long, value_parser = parse_max_depth)]
-    pub(crate) max_depth: Option<u32>,
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
     /// A graph variant (repeatable): [LABEL=]GRAPH[@CHANNEL][:INSTANCE.PARAM=VALUE,...];
     /// @CHANNEL compares CHANNEL instead of --channel (e.g. graphs/pathtracer-denoise.ron@denoised),
     /// :SETs override params for this variant only (see src/bench/variant.rs).
@@ -125,7 +116,7 @@ pub(crate) fn bench(args: BenchArgs) -> Result<(), Failure> {
     }
     let ours: Vec<Series> = runs.iter().map(Series::from_run).collect();
     let chart = args.out.join("error-vs-time.png");
-    let scene_name = args.scene.display().to_string();
+    let scene_name = args.scene.path.display().to_string();
     plot::write_plot(
         &chart,
         &format!("relMSE against time: {scene_name}"),
@@ -161,11 +152,11 @@ pub(crate) fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run
     // The scene, and every variant's graph, params and channel, are checked before the first
     // variant renders.
     let scene_options = passgraph::scene::SceneOptions {
-        defines: args.define.clone(),
+        defines: args.scene.define.clone(),
         max_depth: None,
-        camera: args.camera.clone(),
+        camera: args.scene.camera.clone(),
     };
-    let scene = passgraph::scene::load_scene_with(&args.scene, &scene_options)
+    let scene = passgraph::scene::load_scene_with(&args.scene.path, &scene_options)
         .map_err(|e| e.to_string())?
         .scene;
     for warning in &scene.mesh.warnings {
@@ -186,16 +177,16 @@ pub(crate) fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run
         let channel = variant.channel.as_ref().unwrap_or(&args.channel);
         let settings = RenderSettings {
             graph: variant.graph.clone(),
-            scene: args.scene.clone(),
+            scene: args.scene.path.clone(),
             size: args.size,
             seed: args.seed,
             set: args.set.iter().chain(&variant.set).cloned().collect(),
             adapter: args.adapter.clone(),
             max_frames: u32::MAX,
             keep: Keep::Outputs,
-            max_depth: args.max_depth,
-            defines: args.define.clone(),
-            camera: args.camera.clone(),
+            max_depth: args.scene.max_depth,
+            defines: args.scene.define.clone(),
+            camera: args.scene.camera.clone(),
         };
         eprintln!("bench {label} ...");
         let r =

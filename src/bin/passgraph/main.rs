@@ -121,7 +121,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         Command::View(a) => passgraph::view::run(passgraph::view::ViewOptions {
             settings: RenderSettings {
                 graph: a.graph,
-                scene: a.scene,
+                scene: a.scene.path,
                 size: a.size,
                 seed: a.seed,
                 set: a.set,
@@ -129,9 +129,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 max_frames: RenderSettings::DEFAULT_MAX_FRAMES,
                 // Any texture the graph computes can be shown.
                 keep: Keep::EveryTexture,
-                max_depth: a.max_depth,
-                defines: a.define,
-                camera: a.camera,
+                max_depth: a.scene.max_depth,
+                defines: a.scene.define,
+                camera: a.scene.camera,
             },
             window_scale: 2,
             script: a.script,
@@ -232,11 +232,11 @@ fn builtin_defaults(cli: &mut Cli) -> Result<Option<RuntimeDir>, String> {
     let (graph, scene) = (builtin::build_tree_graph(), builtin::build_tree_scene());
     let mut paths: Vec<&mut PathBuf> = Vec::new();
     match &mut cli.command {
-        None => paths.extend([&mut cli.render.graph, &mut cli.render.scene]),
-        Some(Command::Render(a)) => paths.extend([&mut a.graph, &mut a.scene]),
-        Some(Command::View(a)) => paths.extend([&mut a.graph, &mut a.scene]),
+        None => paths.extend([&mut cli.render.graph, &mut cli.render.scene.path]),
+        Some(Command::Render(a)) => paths.extend([&mut a.graph, &mut a.scene.path]),
+        Some(Command::View(a)) => paths.extend([&mut a.graph, &mut a.scene.path]),
         Some(Command::Bench(a)) => {
-            paths.push(&mut a.scene);
+            paths.push(&mut a.scene.path);
             paths.extend(a.graphs.iter_mut().map(|v| &mut v.graph));
         }
         _ => {}

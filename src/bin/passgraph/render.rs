@@ -21,18 +21,8 @@ pub(crate) struct RenderArgs {
     /// The graph to run.
     #[arg(long, default_value = DEFAULT_GRAPH)]
     pub(crate) graph: PathBuf,
-    /// The scene file: RON naming a mesh and a camera, or a Mitsuba 3 scene (.xml).
-    #[arg(long, default_value = DEFAULT_SCENE)]
-    pub(crate) scene: PathBuf,
-    /// A Mitsuba XML scene's parameter, as `mitsuba -D`: replaces its <default name="NAME">.
-    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub(crate) define: Vec<(String, String)>,
-    /// A glTF scene's camera, by its name or its node's (default: the first).
-    #[arg(long, value_name = "NAME")]
-    pub(crate) camera: Option<String>,
-    /// Longest path in segments, as Mitsuba's max_depth (replaces the scene file's; default 3).
-    #[arg(long, value_parser = parse_max_depth)]
-    pub(crate) max_depth: Option<u32>,
+    #[command(flatten)]
+    pub(crate) scene: SceneArgs,
     /// Frames to accumulate (one sample per pixel each); default: a Mitsuba scene's sampler
     /// sample_count, else 1000.
     #[arg(long, value_parser = parse_frames)]
@@ -105,10 +95,10 @@ pub(crate) struct RenderArgs {
 /// else 256x256 and 1000 frames.
 pub(crate) fn render_size_and_frames(args: &RenderArgs) -> Result<([u32; 2], u32), Failure> {
     let film = if (args.size.is_none() || args.frames.is_none())
-        && passgraph::scene::is_mitsuba_xml(&args.scene)
+        && passgraph::scene::is_mitsuba_xml(&args.scene.path)
     {
         Some(
-            passgraph::scene::mitsuba_xml::film_defaults(&args.scene, &args.define)
+            passgraph::scene::mitsuba_xml::film_defaults(&args.scene.path, &args.scene.define)
                 .map_err(|e| e.to_string())?,
         )
     } else {
@@ -148,7 +138,7 @@ pub(crate) fn render(mut args: RenderArgs) -> Result<(), Failure> {
     };
     let settings = RenderSettings {
         graph: args.graph,
-        scene: args.scene,
+        scene: args.scene.path,
         size,
         seed: args.seed,
         set: args.set,
@@ -161,9 +151,9 @@ pub(crate) fn render(mut args: RenderArgs) -> Result<(), Failure> {
             range.len()
         },
         keep: Keep::Outputs,
-        max_depth: args.max_depth,
-        defines: args.define.clone(),
-        camera: args.camera.clone(),
+        max_depth: args.scene.max_depth,
+        defines: args.scene.define.clone(),
+        camera: args.scene.camera.clone(),
     };
     // A checkpoint written inside a tiled render resumes in tiles of its size: read first.
     let checkpoint_in = match &args.resume {
