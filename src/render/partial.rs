@@ -51,7 +51,7 @@
 use super::channels::Channel;
 use super::fingerprint::{Fingerprint, hash_text, parse_hash};
 pub use super::planes::Plane;
-use super::planes::{cut_tile, planes_from_buffers, planes_to_result, tile_rows};
+use super::planes::{planes_from_buffers, planes_to_result, tile_rows};
 pub use super::sample_range::SampleRange;
 use super::tiling::{Tile, Tiling};
 use crate::atomic_write::write_atomic;
@@ -606,27 +606,6 @@ impl Partial {
             }
         }
         Ok(held)
-    }
-
-    /// The part of the planes inside `tile`, as a partial of samples `samples` (its dropped
-    /// samples what its counts leave out of them): what a tile's session resumes from.
-    pub fn tile_part(&self, tile: Tile, samples: SampleRange) -> Partial {
-        let planes = cut_tile(&self.planes, self.size[0], tile);
-        let dropped = planes.first().map_or(0, |p| {
-            p.count
-                .iter()
-                .map(|&n| u64::from(samples.len().saturating_sub(n)))
-                .sum()
-        });
-        Partial {
-            size: tile.size,
-            samples,
-            dropped,
-            fingerprint: self.fingerprint.clone(),
-            source: self.source.clone(),
-            planes,
-            progress: None,
-        }
     }
 }
 

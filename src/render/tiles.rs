@@ -480,12 +480,7 @@ impl TiledRender {
         let part = self.session.image(&self.channel)?;
         self.paste_image(tile, &part);
         if let Some(kept) = &mut self.kept {
-            let pixels = tile.size[0] as usize * tile.size[1] as usize;
-            let planes = planes_from_buffers(
-                pixels,
-                &self.session.result()?,
-                &self.session.compensation()?,
-            );
+            let planes = session_planes(&self.session)?;
             paste_tile(kept, self.tiling.image[0], tile, &planes);
         }
         self.dropped += self.session.dropped()?;
@@ -617,12 +612,7 @@ impl TiledRender {
             Some(&tile) => {
                 let next = self.session.accumulated();
                 if next > 0 {
-                    let pixels = tile.size[0] as usize * tile.size[1] as usize;
-                    let part = planes_from_buffers(
-                        pixels,
-                        &self.session.result().map_err(|e| e.to_string())?,
-                        &self.session.compensation().map_err(|e| e.to_string())?,
-                    );
+                    let part = session_planes(&self.session).map_err(|e| e.to_string())?;
                     paste_tile(&mut planes, self.tiling.image[0], tile, &part);
                     dropped += u64::from(self.session.dropped().map_err(|e| e.to_string())?);
                 } else if self.current == 0 {
@@ -675,6 +665,16 @@ fn whole_accumulation(
         &session.result().map_err(|e| e.to_string())?,
         &session.compensation().map_err(|e| e.to_string())?,
     )
+}
+
+/// The accumulation of `session`'s tile, read back.
+fn session_planes(session: &Session) -> Result<Vec<Plane>, RenderError> {
+    let [w, h] = session.tile().size;
+    Ok(planes_from_buffers(
+        w as usize * h as usize,
+        &session.result()?,
+        &session.compensation()?,
+    ))
 }
 
 /// Samples of `frames` per pixel that the counts of `planes` leave out.
