@@ -4,21 +4,20 @@
 // The mean is compensated: `compensation` holds the rounding error of each update (the low
 // part of mean + compensation), so the error stays near half an ulp instead of growing like
 // sqrt(n) ulps (tests/robust_accumulate.rs; src/render/accumulate.rs mirrors this arithmetic).
-#include "lib/scene.wgsl"
+#include "lib/provided_view.wgsl"
 
 // A pass param (see passes/accumulate.ron).
 override restart_on_reset: bool = true;
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var l0: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(2) var direct: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(3) var indirect: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(4) var ambient: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(0) var l0: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(1) var direct: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var indirect: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var ambient: texture_storage_2d<rgba32float, read>;
 // Five planes of width * height: L0, direct, indirect, ambient, sum.
-@group(0) @binding(5) var<storage, read_write> result: array<vec4<f32>>;
-@group(0) @binding(6) var<storage, read_write> dropped: atomic<u32>;
+@group(0) @binding(4) var<storage, read_write> result: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> dropped: atomic<u32>;
 // Same layout as `result`: the rounding error carried by each mean (xyz; w unused).
-@group(0) @binding(7) var<storage, read_write> compensation: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> compensation: array<vec4<f32>>;
 
 struct Mean {
     mean: vec3<f32>,

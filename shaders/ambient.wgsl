@@ -1,6 +1,6 @@
 // Ambient: one cosine-weighted ray from the primary hit; unoccluded within `radius`, the point
 // receives kd * ambient_color (lib/shade_ambient.wgsl).
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/sampling.wgsl"
@@ -18,16 +18,9 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(2) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(5) var<uniform> frame: Frame;
-@group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(7) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
-@group(0) @binding(8) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(9) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var rays: texture_storage_2d_array<rgba32float, read>;
+@group(0) @binding(2) var out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(3) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

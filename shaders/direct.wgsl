@@ -1,6 +1,6 @@
 // Direct: emission seen at the primary hit (L0, front faces only) and next-event estimation
 // to the emitters (L1): lib/shade_direct.wgsl.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/sampling.wgsl"
@@ -20,18 +20,10 @@
 #include "lib/nee.wgsl"
 #include "lib/shade_direct.wgsl"
 
-@group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(1) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(2) var lights: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(5) var<uniform> frame: Frame;
-@group(0) @binding(6) var l0: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(7) var out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(8) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-@group(0) @binding(9) var light_power: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(10) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(11) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(0) var rays: texture_storage_2d_array<rgba32float, read>;
+@group(0) @binding(1) var l0: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(3) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

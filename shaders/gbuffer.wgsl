@@ -3,18 +3,15 @@
 // of the accumulation, like the image it guides: the jittered primary rays cover the pixel's
 // footprint, so at a silhouette the guide mixes the two surfaces in the proportions the
 // accumulated colour does, and the albedo divides that colour consistently.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/ray_texture.wgsl"
 #include "lib/surface.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(2) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(4) var normal: texture_storage_2d<rgba32float, read_write>;
-@group(0) @binding(5) var position: texture_storage_2d<rgba32float, read_write>;
-@group(0) @binding(6) var albedo: texture_storage_2d<rgba32float, read_write>;
+@group(0) @binding(0) var rays: texture_storage_2d_array<rgba32float, read>;
+@group(0) @binding(1) var normal: texture_storage_2d<rgba32float, read_write>;
+@group(0) @binding(2) var position: texture_storage_2d<rgba32float, read_write>;
+@group(0) @binding(3) var albedo: texture_storage_2d<rgba32float, read_write>;
 
 // What a primary ray that leaves the scene contributes: no normal, a far position, albedo 1
 // (nothing to demodulate), so misses group with misses only.

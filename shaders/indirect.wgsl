@@ -1,6 +1,6 @@
 // Indirect: one cosine-weighted bounce from the primary hit, then next-event estimation at the
 // second hit (lib/shade_indirect.wgsl).
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/sampling.wgsl"
@@ -21,17 +21,9 @@
 #include "lib/path_light.wgsl"
 #include "lib/shade_indirect.wgsl"
 
-@group(0) @binding(0) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(1) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(2) var lights: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(5) var<uniform> frame: Frame;
-@group(0) @binding(6) var out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(7) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-@group(0) @binding(8) var light_power: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(9) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(10) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(0) var rays: texture_storage_2d_array<rgba32float, read>;
+@group(0) @binding(1) var out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn shade(id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);

@@ -1,6 +1,6 @@
 // Intersect: one jittered primary ray per pixel, stored for the lighting passes
 // (layer 0: origin, layer 1: direction, layer 2: hit t, u, v, triangle as bits).
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
@@ -13,15 +13,8 @@
 // rasteriser, tests/raster.rs).
 override pixel_jitter: bool = true;
 
-@group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> frame: Frame;
-@group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, write>;
-@group(0) @binding(5) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
-@group(0) @binding(6) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(7) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(0) var rays: texture_storage_2d_array<rgba32float, write>;
+@group(0) @binding(1) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn shade(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {

@@ -4,7 +4,7 @@
 // separate passes, and with one sample per frame the same samples. What it saves: the ray
 // texture's writes and reads, three dispatches and their barriers. `samples_per_frame` traces
 // that many samples per pixel per frame and writes their mean, amortising per-dispatch costs.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"

@@ -50,7 +50,7 @@
 //
 // Same channels and expectation as path.wgsl; the measured speed against error:
 // docs/benchmark-history.md.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"

@@ -16,7 +16,7 @@
 // ceiling must not continue on a pixel that now sees only ceiling. Diffuse shading is
 // view-independent, so a reused mean is still right; view-dependent light (glossy
 // highlights) would ghost.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/primary.wgsl"
 #include "lib/ray_texture.wgsl"
 
@@ -29,30 +29,26 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<uniform> camera: Camera;
-@group(0) @binding(2) var<uniform> camera_previous: Camera;
-@group(0) @binding(3) var<uniform> frame: Frame;
-@group(0) @binding(4) var rays: texture_storage_2d_array<rgba32float, read>;
-@group(0) @binding(5) var triangles: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var rays: texture_storage_2d_array<rgba32float, read>;
 // snapshot's input and reproject's output: the accumulation accumulate continues in place.
-@group(0) @binding(6) var<storage, read> result: array<vec4<f32>>;
-@group(0) @binding(7) var<storage, read> compensation: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read_write> result_out: array<vec4<f32>>;
-@group(0) @binding(9) var<storage, read_write> compensation_out: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> result: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> compensation: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> result_out: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> compensation_out: array<vec4<f32>>;
 // The previous view's accumulation, copied on a move before the gather overwrites it.
-@group(0) @binding(10) var<storage, read_write> snapshot: array<vec4<f32>>;
-@group(0) @binding(11) var<storage, read_write> snapshot_compensation: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> snapshot: array<vec4<f32>>;
+@group(0) @binding(7) var<storage, read_write> snapshot_compensation: array<vec4<f32>>;
 // The guides: a hit point, and a geometric normal with w = material index + 2 (1: a miss;
 // 0: no sample yet; -1: mixed). reproject reads last frame's, commit writes this frame's.
-@group(0) @binding(12) var guide_position: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(13) var guide_normal: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(14) var guide_position_out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(15) var guide_normal_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(8) var guide_position: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(9) var guide_normal: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(10) var guide_position_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(11) var guide_normal_out: texture_storage_2d<rgba32float, write>;
 // The guide of the history each pixel continues (same encoding; w = 0 for a fresh start).
-@group(0) @binding(16) var carried_position: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(17) var carried_normal: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(18) var carried_position_in: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(19) var carried_normal_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(12) var carried_position: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(13) var carried_normal: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(14) var carried_position_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(15) var carried_normal_in: texture_storage_2d<rgba32float, read>;
 
 // Planes of `result`: L0, direct, indirect, ambient, sum.
 const PLANES: u32 = 5u;

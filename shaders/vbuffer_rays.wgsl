@@ -6,7 +6,7 @@
 // so they are intersect's wherever both see that triangle. Where the test disagrees with the
 // rasteriser (a pixel whose ray grazes the drawn triangle's edge), the ray passes a cut-out
 // drawn there, or nothing was drawn, the ray is traced through the BVH as intersect traces it.
-#include "lib/scene.wgsl"
+#include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
@@ -16,16 +16,9 @@
 #include "lib/ray_count.wgsl"
 #include "lib/ray_texture_store.wgsl"
 
-@group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> frame: Frame;
-@group(0) @binding(2) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(3) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var vbuffer: texture_2d<u32>;
-@group(0) @binding(5) var rays: texture_storage_2d_array<rgba32float, write>;
-@group(0) @binding(6) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-// Texture coordinates and map_d textures, for cut-outs (lib/cutout_map.wgsl).
-@group(0) @binding(7) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(8) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(0) var vbuffer: texture_2d<u32>;
+@group(0) @binding(1) var rays: texture_storage_2d_array<rgba32float, write>;
+@group(0) @binding(2) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 fn convert(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {

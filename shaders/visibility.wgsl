@@ -4,15 +4,13 @@
 // nearest along the pixel's ray: the fragment intersects that ray with the triangle's plane and
 // writes the distance as its depth, so the depth test compares exactly what intersect compares.
 // vbuffer (rgba32uint): triangle + 1 (0: none), barycentrics u, v (of p1, p2) and t as f32 bits.
-#include "lib/scene.wgsl"
+#include "lib/provided_view.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
 #include "lib/camera_ray.wgsl"
 #include "lib/frame_jitter.wgsl"
 
-@group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> frame: Frame;
-@group(0) @binding(2) var triangles: texture_2d<u32>;
+@group(0) @binding(0) var triangles: texture_2d<u32>;
 
 // Depth = t / (t + DEPTH_SCALE): increasing in t, and in the low range of [0, 1) where f32 keeps
 // t's relative precision for any scene size up to about DEPTH_SCALE.

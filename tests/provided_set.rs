@@ -178,3 +178,65 @@ fn an_include_input_may_be_bound_to_a_name_the_application_provides() {
         ],
     );
 }
+
+/// The viewer's graph with the instance's `bind` given whole.
+fn graph_binding(project: &Project, bind: &str, extra_resources: &str) -> PathBuf {
+    let path = project.dir.path().join("graphs/by_name.ron");
+    std::fs::write(
+        &path,
+        format!(
+            "Graph(
+    resources: {{ \"out\": Texture(format: Rgba32Float), {extra_resources} }},
+    passes: [(name: \"scale\", pass: \"scale\", bind: {{ {bind} }})],
+    outputs: [\"out\"],
+)"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn a_variable_the_application_binds_by_name_needs_no_bind_entry_and_an_instance_entry_wins() {
+    let project = Project::new("mesh", "");
+    let by_name = viewer()
+        .bind_by_name("mesh", "mesh")
+        .bind_by_name("clock", "clock");
+    let resource_of = |plan: &passgraph::graph::plan::Plan, binding: &str| {
+        let pass = plan.pass("scale").unwrap();
+        let b = pass.bindings.iter().find(|b| b.name == binding).unwrap();
+        plan.resources[b.resource].name.clone()
+    };
+    let plan = compile_file(
+        &graph_binding(&project, "\"dst\": \"out\"", ""),
+        [16, 16],
+        &by_name,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(resource_of(&plan, "mesh"), "mesh");
+    assert_eq!(resource_of(&plan, "clock"), "clock");
+
+    // The instance's own entry binds the variable to one of the graph's buffers instead.
+    let plan = compile_file(
+        &graph_binding(
+            &project,
+            "\"dst\": \"out\", \"mesh\": \"my_mesh\"",
+            "\"my_mesh\": Buffer(size: Bytes(64)),",
+        ),
+        [16, 16],
+        &by_name,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(resource_of(&plan, "mesh"), "my_mesh");
+    assert_eq!(resource_of(&plan, "clock"), "clock");
+
+    // Without bind_by_name the same graph leaves `mesh` unbound, and the error says so.
+    let err = compile_file(
+        &graph_binding(&project, "\"dst\": \"out\"", ""),
+        [16, 16],
+        &viewer(),
+    )
+    .unwrap_err();
+    assert!(matches!(err, GraphError::Unbound { .. }), "{err}");
+    assert_mentions(&err.to_string(), &["'mesh'", "unbound", "by_name.ron"]);
+}

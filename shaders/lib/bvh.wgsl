@@ -8,10 +8,9 @@
 // index. Tests hold both to a brute-force oracle.
 //
 // Contract with the including shader:
-//   #include "lib/scene.wgsl"     // first: Triangle, BvhNode, the texel-view readers, and
-//   #include "lib/bvh.wgsl"       // the overrides scene_triangle_count and scene_node_count
-//   @group(G) @binding(B) var triangles: texture_storage_2d<rgba32uint, read>;   // scene.triangles (texel view)
-//   @group(G) @binding(C) var bvh: texture_storage_2d<rgba32uint, read>;         // scene.bvh (texel view)
+//   #include "lib/provided_scene.wgsl"  // first: Triangle, BvhNode, the texel-view readers,
+//   #include "lib/bvh.wgsl"              // the overrides scene_triangle_count and
+//                                        // scene_node_count, and `triangles` and `bvh`
 //   #include "lib/cutout_map.wgsl"   // cut-outs from `map_d` textures (binds scene.shading and
 //                                    // scene.textures), or "lib/cutout_map_none.wgsl" (none)
 // `dir` need not be normalised but must be finite and nonzero; hits have t in (tmin, tmax)

@@ -12,20 +12,11 @@ struct Params {
 override samples_per_frame: u32 = 1u;
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<uniform> camera: Camera;
-@group(0) @binding(2) var<uniform> frame: Frame;
-@group(0) @binding(3) var triangles: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(4) var materials: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(5) var lights: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(6) var light_power: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(7) var bvh: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(8) var l0: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(9) var direct: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(10) var indirect: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(11) var ambient: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(12) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-@group(0) @binding(13) var shading: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(14) var textures: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(1) var l0: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var direct: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(3) var indirect: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var ambient: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(5) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
 
 // The primary ray of `pixel` for `source` (filtered, through the lens) and its closest hit (as intersect traces it).
 fn path_primary(pixel: vec2<u32>, source: SampleSource) -> Primary {

@@ -33,6 +33,8 @@ pub struct ProvidedInputs<'a> {
 
 struct Resource {
     name: &'static str,
+    /// The variable shaders/lib/provided.wgsl declares for it, bound without a graph naming it.
+    variable: &'static str,
     kind: ProvidedKind,
     what: &'static str,
     bytes: fn(&ProvidedInputs) -> Vec<u8>,
@@ -48,12 +50,14 @@ struct Override {
 const RESOURCES: &[Resource] = &[
     Resource {
         name: "scene.triangles",
+        variable: "triangles",
         kind: ProvidedKind::StorageBuffer,
         what: "triangles: three vertices and a material index each",
         bytes: |i| bytemuck::cast_slice(&i.gpu.triangles).to_vec(),
     },
     Resource {
         name: "scene.materials",
+        variable: "materials",
         kind: ProvidedKind::StorageBuffer,
         what: "materials from the MTL file (128 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
         bytes: |i| {
@@ -62,36 +66,42 @@ const RESOURCES: &[Resource] = &[
     },
     Resource {
         name: "scene.lights",
+        variable: "lights",
         kind: ProvidedKind::StorageBuffer,
         what: "the lights: emissive triangles and parallelograms of two (p0, e1, e2, material, triangles), then point, spot and directional lights and the environment (tagged by material: src/scene/lights.rs); 48 bytes each",
         bytes: |i| bytemuck::cast_slice(&i.gpu.lights).to_vec(),
     },
     Resource {
         name: "scene.light_power",
+        variable: "light_power",
         kind: ProvidedKind::StorageBuffer,
         what: "f32 selection weight of each light (area x luminance of Ke; src/scene/emitters.rs for the others), in scene.lights order, then an environment map's sampling tables (src/scene/environment.rs)",
         bytes: |i| i.gpu.light_power_bytes(),
     },
     Resource {
         name: "scene.shading",
+        variable: "shading",
         kind: ProvidedKind::StorageBuffer,
         what: "per triangle in BVH order: corner normals and uvs (64 bytes each: TriangleShading in src/scene/gpu.rs); one zero texel when no triangle has either",
         bytes: |i| i.gpu.shading_bytes(),
     },
     Resource {
         name: "scene.textures",
+        variable: "textures",
         kind: ProvidedKind::StorageBuffer,
         what: "every texture as linear RGBA f32 texels after one header texel each (first texel, width, height: src/scene/texture.rs); one zero texel when there are none",
         bytes: |i| i.gpu.textures_bytes(),
     },
     Resource {
         name: "scene.bvh",
+        variable: "bvh",
         kind: ProvidedKind::StorageBuffer,
         what: "threaded BVH: the box grid, then one 16-byte node each",
         bytes: |i| i.gpu.bvh_bytes(),
     },
     Resource {
         name: CAMERA,
+        variable: "camera",
         kind: ProvidedKind::Uniform,
         what: "the camera: eye, forward and the scaled right and up (perspective or orthographic), the lens's aperture radius and focus distance",
         bytes: |i| {
@@ -100,12 +110,14 @@ const RESOURCES: &[Resource] = &[
     },
     Resource {
         name: CAMERA_PREVIOUS,
+        variable: "camera_previous",
         kind: ProvidedKind::Uniform,
         what: "the camera of the previous frame; all zeros after a reset (no history to reuse)",
         bytes: |_| bytemuck::bytes_of(&GpuCamera::zeroed()).to_vec(),
     },
     Resource {
         name: FRAME,
+        variable: "frame",
         kind: ProvidedKind::Uniform,
         what: "frame index, accumulated frame count, output size, user seed, the tile's place in the image",
         bytes: |i| bytemuck::bytes_of(&tile_frame(i.tile, i.seed, 0, 0)).to_vec(),
@@ -253,6 +265,7 @@ pub fn path_tracer() -> &'static ProvidedSet {
     SET.get_or_init(|| {
         let set = RESOURCES.iter().fold(ProvidedSet::new(), |set, r| {
             set.resource(r.name, r.kind, r.what)
+                .bind_by_name(r.variable, r.name)
         });
         OVERRIDES
             .iter()
@@ -303,13 +316,53 @@ pub fn tile_frame(tile: Tile, seed: u32, index: u32, accumulated: u32) -> Frame 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::graph::interface::BindingKind;
+    use crate::graph::reflect::reflect;
+    use crate::graph::shader_source::ShaderSource;
     use crate::scene::load_scene;
     use std::collections::BTreeSet;
     use std::path::Path;
 
+    fn root() -> &'static Path {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+    }
+
+    /// The shared declaration and the table must name the same variables: a resource added to
+    /// one and not the other would leave a pass with an unbound or undeclared variable.
     #[test]
-    fn every_registered_name_gets_data_and_every_datum_is_registered() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(crate::scene::DEFAULT_SCENE);
+    fn the_shared_wgsl_declares_exactly_the_variables_the_set_binds_by_name() {
+        let source = ShaderSource::load(
+            &root().join("shaders/lib/provided_scene.wgsl"),
+            &root().join("shaders"),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let declared: BTreeSet<String> = source
+            .code
+            .lines()
+            .filter_map(|line| line.trim().strip_prefix("@group(1)"))
+            .filter_map(|rest| {
+                let name = rest.split(" var").nth(1)?.split(':').next()?;
+                Some(name.trim_start_matches(|c| c != ' ').trim().to_string())
+            })
+            .collect();
+        let bound: BTreeSet<String> = path_tracer()
+            .resources()
+            .iter()
+            .map(|r| {
+                r.variable
+                    .clone()
+                    .unwrap_or_else(|| panic!("{} has no variable", r.name))
+            })
+            .collect();
+        assert_eq!(declared, bound);
+    }
+
+    /// Each resource's first-frame bytes against the size its one WGSL declaration has (a
+    /// uniform's struct and the host struct must agree byte for byte; a scene buffer holds whole
+    /// texels), and each override declared in WGSL with the registered type and given a value.
+    #[test]
+    fn every_registered_resource_gets_data_of_the_size_its_declaration_takes() {
+        let path = root().join(crate::scene::DEFAULT_SCENE);
         let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         let gpu = scene.to_gpu();
         let data = provided_data(&ProvidedInputs {
@@ -319,17 +372,56 @@ mod tests {
             seed: 0,
         });
         let set = path_tracer();
-        let registered: BTreeSet<&str> = set.resources().iter().map(|r| r.name.as_str()).collect();
-        let filled: BTreeSet<&str> = data.buffers.keys().map(String::as_str).collect();
-        assert_eq!(registered, filled);
-        let registered: BTreeSet<&str> = set.overrides().iter().map(|o| o.name.as_str()).collect();
-        let filled: BTreeSet<&str> = data.overrides.keys().map(String::as_str).collect();
-        assert_eq!(registered, filled);
-        // A uniform's bytes are what its shader struct holds, so none may be empty.
+        let variables = set.resources().iter().filter_map(|r| r.variable.as_deref());
+        let overrides = set.overrides().iter().map(|o| o.name.as_str());
+        let uses: String = variables
+            .chain(overrides)
+            .map(|name| format!("    _ = {name};\n"))
+            .collect();
+        let code = format!(
+            "#include \"lib/provided_scene.wgsl\"\n@compute @workgroup_size(1)\nfn main() {{\n{uses}}}\n"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("uses_all.wgsl");
+        std::fs::write(&file, code).unwrap();
+        let source =
+            ShaderSource::load(&file, &root().join("shaders")).unwrap_or_else(|e| panic!("{e}"));
+        let interface = reflect(&source, "main").unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(interface.bindings.len(), set.resources().len());
         for r in set.resources() {
-            if r.kind == ProvidedKind::Uniform {
-                assert!(!data.buffers[&r.name].is_empty(), "{}", r.name);
+            let variable = r.variable.as_deref().unwrap();
+            let binding = interface
+                .bindings
+                .iter()
+                .find(|b| b.name == variable)
+                .unwrap_or_else(|| panic!("{variable} is not declared"));
+            assert_eq!(binding.group, 1, "{variable}: the application's group");
+            let bytes = data.buffers[&r.name].len() as u64;
+            match (r.kind, &binding.kind) {
+                (ProvidedKind::Uniform, BindingKind::Uniform { size }) => {
+                    assert_eq!(
+                        bytes, *size,
+                        "{}: host bytes against the WGSL struct",
+                        r.name
+                    )
+                }
+                (ProvidedKind::StorageBuffer, BindingKind::StorageTexture { .. }) => {
+                    assert!(bytes >= 16 && bytes.is_multiple_of(16), "{}: {bytes} bytes", r.name)
+                }
+                (kind, declared) => panic!("{}: {kind:?} declared as {declared:?}", r.name),
             }
+        }
+        let filled: BTreeSet<&str> = data.buffers.keys().map(String::as_str).collect();
+        let registered: BTreeSet<&str> = set.resources().iter().map(|r| r.name.as_str()).collect();
+        assert_eq!(registered, filled);
+        for o in set.overrides() {
+            let declared = interface.overrides.iter().find(|d| d.name == o.name);
+            assert_eq!(declared.map(|d| d.ty), Some(o.ty), "override {}", o.name);
+            assert!(
+                data.overrides.contains_key(&o.name),
+                "{} has no value",
+                o.name
+            );
         }
     }
 }

@@ -183,7 +183,8 @@ pub fn bind_instance(
     let shader = &pass.interface;
     let mut bindings = Vec::new();
     for b in &shader.bindings {
-        let Some(resource_name) = instance.bind.get(&b.name) else {
+        let by_name = || provided.bound_by_name(&b.name).map(|p| &p.name);
+        let Some(resource_name) = instance.bind.get(&b.name).or_else(by_name) else {
             return Err(GraphError::Unbound {
                 graph: graph_file.to_path_buf(),
                 pass: instance.name.clone(),

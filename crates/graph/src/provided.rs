@@ -20,6 +20,9 @@ pub struct Provided {
     pub kind: ProvidedKind,
     /// What it holds, for messages and listings.
     pub what: String,
+    /// The shader variable bound to it when a pass instance's `bind` does not name one: shaders
+    /// declare it once (in a file they include) and graphs need not list it.
+    pub variable: Option<String>,
 }
 
 /// A pipeline-overridable constant the application sets, so shaders can be specialised to its
@@ -63,7 +66,28 @@ impl ProvidedSet {
             name,
             kind,
             what: what.into(),
+            variable: None,
         });
+        self
+    }
+
+    /// Binds the registered resource `resource` to every shader variable named `variable` that
+    /// a pass instance leaves out of its `bind` (an instance's own entry still wins). Naming a
+    /// resource not registered, or a variable twice, is a bug in the application.
+    pub fn bind_by_name(mut self, variable: impl Into<String>, resource: &str) -> ProvidedSet {
+        let variable = variable.into();
+        assert!(
+            self.bound_by_name(&variable).is_none(),
+            "shader variable '{variable}' bound by name twice"
+        );
+        let Some(provided) = self.resources.iter_mut().find(|p| p.name == resource) else {
+            panic!("'{resource}' is bound by name but not registered");
+        };
+        assert!(
+            provided.variable.is_none(),
+            "provided resource '{resource}' bound by name twice"
+        );
+        provided.variable = Some(variable);
         self
     }
 
@@ -109,6 +133,13 @@ impl ProvidedSet {
         self.overrides.iter().find(|o| o.name == name)
     }
 
+    /// The resource bound to shader variable `variable` when an instance does not bind it.
+    pub fn bound_by_name(&self, variable: &str) -> Option<&Provided> {
+        self.resources
+            .iter()
+            .find(|p| p.variable.as_deref() == Some(variable))
+    }
+
     pub fn texel_reader_file(&self) -> Option<&str> {
         self.texel_readers.as_deref()
     }
@@ -133,6 +164,30 @@ mod tests {
         );
         assert!(set.get("mesh_count").is_none());
         assert!(set.get_override("mesh").is_none());
+    }
+
+    #[test]
+    fn a_variable_bound_by_name_finds_its_resource_and_no_other() {
+        let set = ProvidedSet::new()
+            .resource("scene.mesh", ProvidedKind::StorageBuffer, "vertices")
+            .resource("scene.lights", ProvidedKind::StorageBuffer, "lights")
+            .bind_by_name("mesh", "scene.mesh");
+        assert_eq!(
+            set.bound_by_name("mesh").map(|p| p.name.as_str()),
+            Some("scene.mesh")
+        );
+        assert!(set.bound_by_name("lights").is_none());
+        assert!(set.bound_by_name("scene.mesh").is_none());
+    }
+
+    #[test]
+    #[should_panic(expected = "bound by name twice")]
+    fn a_variable_bound_to_two_resources_is_a_bug() {
+        let _ = ProvidedSet::new()
+            .resource("a", ProvidedKind::StorageBuffer, "a")
+            .resource("b", ProvidedKind::StorageBuffer, "b")
+            .bind_by_name("x", "a")
+            .bind_by_name("x", "b");
     }
 
     #[test]
