@@ -447,8 +447,11 @@ fn exercise(dir: &Path, target: Target, graph: &Path, scene: &Path) {
             let Ok(mut loaded) = load_graph(graph) else {
                 return;
             };
-            let _ =
-                passgraph::graph::set_param::set_param(&mut loaded, "direct.light_selection=true");
+            let _ = passgraph::graph::set_param::set_param(
+                &mut loaded,
+                "direct.light_selection=true",
+                passgraph::render::provided::path_tracer(),
+            );
             if let Ok(plan) = passgraph::compile(&loaded, size) {
                 let _ = check_render_contract(&plan, &ChannelSelection::Planes(vec![Channel::Sum]));
                 let _ = plan.to_string();

@@ -6,7 +6,7 @@
 // sqrt(n) ulps (tests/robust_accumulate.rs; src/render/accumulate.rs mirrors this arithmetic).
 #include "lib/provided_view.wgsl"
 
-// A pass param (see passes/accumulate.ron).
+// A pass param: false where a reprojection pass prepares the history (per pixel).
 override restart_on_reset: bool = true;
 
 @group(0) @binding(0) var l0: texture_storage_2d<rgba32float, read>;

@@ -8,6 +8,8 @@ use common::{Scratch, assert_mentions, root};
 use passgraph::GraphError;
 use passgraph::graph::compose::flatten;
 use passgraph::graph::decl::GraphDecl;
+use passgraph::graph::load::load_graph;
+use passgraph::graph::shared_params::with_shared_params;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -15,9 +17,18 @@ use std::path::Path;
 /// order (names, pass files, bindings, params), same resources, same outputs (a set: their
 /// order means nothing). `rename` maps an old name to its new one (a subgraph's prefix).
 fn assert_equivalent(graph: &str, rename: &dyn Fn(&str) -> String) {
-    let new = flatten(&root().join("graphs").join(graph))
-        .unwrap_or_else(|e| panic!("{graph}: {e}"))
-        .decl;
+    let new = {
+        // Graph-level params reach the instances whose passes have them, as compile applies them.
+        let loaded = load_graph(&root().join("graphs").join(graph))
+            .unwrap_or_else(|e| panic!("{graph}: {e}"));
+        let mut decl = loaded.decl.clone();
+        decl.passes = with_shared_params(&loaded, passgraph::render::provided::path_tracer())
+            .unwrap_or_else(|e| panic!("{graph}: {e}"))
+            .into_iter()
+            .map(|(_, instance)| instance)
+            .collect();
+        decl
+    };
     let old: GraphDecl = {
         let path = root().join("tests/data/graphs-flat").join(graph);
         let mut old = flatten(&path).unwrap().decl;

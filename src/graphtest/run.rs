@@ -448,7 +448,8 @@ fn load_case_graph(file: &Path, case: &Case) -> Result<LoadedGraph, String> {
     }
     .map_err(|e| format!("does not load: {e}"))?;
     for s in &case.set {
-        set_param(&mut graph, s).map_err(|e| format!("set \"{s}\": {e}"))?;
+        set_param(&mut graph, s, crate::render::provided::path_tracer())
+            .map_err(|e| format!("set \"{s}\": {e}"))?;
     }
     Ok(graph)
 }

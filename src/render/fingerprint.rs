@@ -88,7 +88,8 @@ impl fmt::Display for Fingerprint {
 fn graph_hash(settings: &RenderSettings) -> Result<u128, String> {
     let mut graph = load_graph(&settings.graph).map_err(|e| e.to_string())?;
     for s in &settings.set {
-        set_param(&mut graph, s).map_err(|e| e.to_string())?;
+        set_param(&mut graph, s, crate::render::provided::path_tracer())
+            .map_err(|e| e.to_string())?;
     }
     let mut h = Fnv128::new();
     for file in super::session::graph_files(&graph) {

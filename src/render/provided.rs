@@ -406,7 +406,11 @@ mod tests {
                     )
                 }
                 (ProvidedKind::StorageBuffer, BindingKind::StorageTexture { .. }) => {
-                    assert!(bytes >= 16 && bytes.is_multiple_of(16), "{}: {bytes} bytes", r.name)
+                    assert!(
+                        bytes >= 16 && bytes.is_multiple_of(16),
+                        "{}: {bytes} bytes",
+                        r.name
+                    )
                 }
                 (kind, declared) => panic!("{}: {kind:?} declared as {declared:?}", r.name),
             }

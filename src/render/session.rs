@@ -695,7 +695,7 @@ pub(crate) fn prepare_graph(
     partial: bool,
 ) -> Result<LoadedGraph, RenderError> {
     for s in &settings.set {
-        set_param(&mut graph, s)?;
+        set_param(&mut graph, s, crate::render::provided::path_tracer())?;
     }
     let mut keep = match &settings.keep {
         Keep::Outputs => Vec::new(),

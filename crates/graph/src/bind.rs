@@ -35,6 +35,7 @@ pub struct BoundPass {
 /// `override` without default is a declared param of the same type, and every param is used.
 pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<(), GraphError> {
     let declared = &pass.decl.params;
+    let params = pass.params(provided);
     let shader = &pass.shader.path;
     if let Some((name, value)) = declared.iter().find(|(_, v)| !v.is_finite()) {
         return Err(GraphError::NonFiniteParam {
@@ -52,7 +53,7 @@ pub fn check_pass_params(pass: &LoadedPass, provided: &ProvidedSet) -> Result<()
             file: pass.file.clone(),
             reason,
         };
-        let Some(default) = declared.get(name) else {
+        let Some(default) = params.get(name) else {
             return Err(bad(format!("'{name}' is not a param of this pass")));
         };
         if default.scalar().is_none() {
@@ -179,7 +180,7 @@ pub fn bind_instance(
     provided: &ProvidedSet,
 ) -> Result<BoundPass, GraphError> {
     let graph_file = origin.file.as_path();
-    let params = resolve_params(origin, instance, pass)?;
+    let params = resolve_params(origin, instance, pass, provided)?;
     let shader = &pass.interface;
     let mut bindings = Vec::new();
     for b in &shader.bindings {
@@ -406,8 +407,10 @@ fn resolve_params(
     origin: &PassOrigin,
     instance: &PassInstanceDecl,
     pass: &LoadedPass,
+    provided: &ProvidedSet,
 ) -> Result<BTreeMap<String, ParamValue>, GraphError> {
-    let mut params = pass.decl.params.clone();
+    let mut params = pass.params(provided);
+    let known: Vec<String> = params.keys().cloned().collect();
     for (name, value) in &instance.params {
         let graph_file = origin.param_file(name);
         if !value.is_finite() {
@@ -424,7 +427,7 @@ fn resolve_params(
                 pass: instance.name.clone(),
                 pass_file: pass.file.clone(),
                 param: name.clone(),
-                known: pass.decl.params.keys().cloned().collect(),
+                known: known.clone(),
             });
         };
         if default.ty() != value.ty() {

@@ -15,6 +15,7 @@ use super::plan::{
 };
 use super::provided::ProvidedSet;
 use super::schedule::{Schedule, schedule};
+use super::shared_params::with_shared_params;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -51,19 +52,12 @@ pub fn compile(
     let mut resources = resolve_resources(graph, output_size, provided)?;
     let outputs = resolve_outputs(graph, &mut resources)?;
 
-    let bound = decl
-        .passes
+    let instances = with_shared_params(graph, provided)?;
+    let bound = instances
         .iter()
-        .map(|instance| {
+        .map(|(origin, instance)| {
             let pass = &graph.passes[&instance.pass];
-            bind_instance(
-                &graph.pass_origin(&instance.name),
-                instance,
-                pass,
-                &resources,
-                output_size,
-                provided,
-            )
+            bind_instance(origin, instance, pass, &resources, output_size, provided)
         })
         .collect::<Result<Vec<BoundPass>, _>>()?;
 
@@ -173,7 +167,7 @@ pub fn compile(
             let b = &bound[p];
             PlannedPass {
                 name: instance.name.clone(),
-                origin: graph.pass_origin(&instance.name),
+                origin: instances[p].0.clone(),
                 pass_file: pass.file.clone(),
                 shader: pass.shader.clone(),
                 entry: pass.decl.entry.clone(),

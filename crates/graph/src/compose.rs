@@ -37,12 +37,14 @@ pub struct Origins {
     pub passes: BTreeMap<String, PassOrigin>,
     pub resources: BTreeMap<String, PathBuf>,
     pub outputs: BTreeMap<String, PathBuf>,
+    /// The file that set each of `shared_params`.
+    pub shared_params: BTreeMap<String, PathBuf>,
 }
 
 /// A graph with every `extends`, `include` and change applied.
 #[derive(Clone, Debug)]
 pub struct Flattened {
-    /// Only `inputs`, `resources`, `passes` and `outputs` are set.
+    /// Only `inputs`, `resources`, `passes`, `outputs` and `shared_params` are set.
     pub decl: GraphDecl,
     pub origins: Origins,
     /// Every graph file read, the top file first.
@@ -307,6 +309,21 @@ fn apply(
             .passes
             .insert(pass.name.clone(), PassOrigin::new(file));
     }
+    for (param, value) in &decl.shared_params {
+        if !decl.inputs.is_empty() || !g.decl.inputs.is_empty() {
+            return Err(source.error(
+                "shared_params",
+                param,
+                format!(
+                    "shared_params: a subgraph's passes take params one by one (params); set '{param}' in `params`, or in the including graph's shared_params"
+                ),
+            ));
+        }
+        g.decl.shared_params.insert(param.clone(), value.clone());
+        g.origins
+            .shared_params
+            .insert(param.clone(), file.to_path_buf());
+    }
     for (instance, changes) in &decl.params {
         let i = find_pass(source, "params", &g.decl.passes, instance)?;
         let origin = g
@@ -458,6 +475,11 @@ fn join(
     let sub = follow(source, key, file, chain)?;
     let fail =
         |message: String| Err(source.error(key, file, format!("include \"{file}\": {message}")));
+    if let Some(param) = sub.decl.shared_params.keys().next() {
+        return fail(format!(
+            "it sets shared_params ('{param}'), which an included graph's passes do not take; set them in this graph's shared_params"
+        ));
+    }
     let prefix = include.prefix.clone().unwrap_or_else(|| {
         Path::new(file)
             .file_stem()

@@ -133,6 +133,11 @@ pub struct GraphDecl {
     /// Param values for inherited passes: instance -> param -> value.
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, ParamChanges>,
+    /// Graph-level params: param -> value for every instance whose pass has that param (an
+    /// instance's own value wins). Inherited through `extends`, a later file's value winning;
+    /// not allowed in a subgraph.
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub shared_params: BTreeMap<String, ParamValue>,
     #[serde(default)]
     pub include: Vec<IncludeDecl>,
     /// Resources the host reads back (added to the base's).

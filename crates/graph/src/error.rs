@@ -115,6 +115,15 @@ pub enum GraphError {
         known: Vec<String>,
     },
 
+    #[error("{}: shared_params: '{param}' is a param of none of the graph's passes ({})",
+        graph.display(), list(passes))]
+    UnusedSharedParam {
+        graph: PathBuf,
+        param: String,
+        /// The graph's instances.
+        passes: Vec<String>,
+    },
+
     #[error("{}: pass '{pass}': param '{param}' is {found}, but {expected_where} expects {expected}", file.display())]
     ParamType {
         file: PathBuf,

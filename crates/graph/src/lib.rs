@@ -29,4 +29,5 @@ pub mod reflect;
 pub mod schedule;
 pub mod set_param;
 pub mod shader_source;
+pub mod shared_params;
 pub mod text_file;

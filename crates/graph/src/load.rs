@@ -4,6 +4,8 @@ use super::compose::{Flattened, IncludeTarget, Origins, PassOrigin, flatten};
 use super::decl::{Dispatch, Footprint, GraphDecl, PassDecl};
 use super::error::GraphError;
 use super::interface::ShaderInterface;
+use super::param::ParamValue;
+use super::provided::ProvidedSet;
 use super::reflect::{reflect, reflect_raster};
 use super::shader_source::ShaderSource;
 use serde::de::DeserializeOwned;
@@ -17,6 +19,26 @@ pub struct LoadedPass {
     pub decl: PassDecl,
     pub shader: ShaderSource,
     pub interface: ShaderInterface,
+}
+
+impl LoadedPass {
+    /// The pass's params with their defaults: its file's `params`, then each `override` of its
+    /// shader with a literal default that the file leaves out and the application does not
+    /// set. A default is written once, in the WGSL; the pass file lists only what has none
+    /// (or is a `params` uniform field).
+    pub fn params(&self, provided: &ProvidedSet) -> BTreeMap<String, ParamValue> {
+        let mut params = self.decl.params.clone();
+        for o in &self.interface.overrides {
+            if let Some(default) = &o.default
+                && provided.get_override(&o.name).is_none()
+            {
+                params
+                    .entry(o.name.clone())
+                    .or_insert_with(|| default.clone());
+            }
+        }
+        params
+    }
 }
 
 /// A graph file, flattened (crates/graph/src/compose.rs), with every pass it names.

@@ -3,6 +3,7 @@
 use super::error::GraphError;
 use super::load::LoadedGraph;
 use super::param::{ParamType, ParamValue};
+use super::provided::ProvidedSet;
 
 /// Parses `VALUE` as the param's type: `0.5`, `3`, `-1`, `true`, or comma-separated vectors
 /// such as `0.1,0.1,0.1`.
@@ -43,59 +44,102 @@ pub fn parse_value(ty: ParamType, text: &str) -> Result<ParamValue, String> {
     })
 }
 
-/// Applies `INSTANCE.PARAM=VALUE` to a loaded graph, before it is compiled.
-pub fn set_param(graph: &mut LoadedGraph, assignment: &str) -> Result<(), GraphError> {
+/// Applies `INSTANCE.PARAM=VALUE` to a loaded graph, before it is compiled; `PARAM=VALUE` sets
+/// it on every instance whose pass has the param.
+pub fn set_param(
+    graph: &mut LoadedGraph,
+    assignment: &str,
+    provided: &ProvidedSet,
+) -> Result<(), GraphError> {
     let invalid = |reason: String| GraphError::InvalidSetting {
         graph: graph.file.clone(),
         setting: assignment.to_string(),
         reason,
     };
     let Some((target, text)) = assignment.split_once('=') else {
-        return Err(invalid("expected INSTANCE.PARAM=VALUE".into()));
+        return Err(invalid(
+            "expected INSTANCE.PARAM=VALUE or PARAM=VALUE".into(),
+        ));
     };
-    let Some((instance, param)) = target.trim().split_once('.') else {
-        return Err(invalid("expected INSTANCE.PARAM=VALUE".into()));
+    let instances: Vec<usize> = match target.trim().split_once('.') {
+        Some((instance, _)) => {
+            let Some(index) = graph.decl.passes.iter().position(|p| p.name == instance) else {
+                let names: Vec<&str> = graph.decl.passes.iter().map(|p| p.name.as_str()).collect();
+                return Err(invalid(format!(
+                    "no pass instance '{instance}' (instances: {})",
+                    names.join(", ")
+                )));
+            };
+            vec![index]
+        }
+        None => {
+            let param = target.trim();
+            let having: Vec<usize> = (0..graph.decl.passes.len())
+                .filter(|&i| {
+                    graph.passes[&graph.decl.passes[i].pass]
+                        .params(provided)
+                        .contains_key(param)
+                })
+                .collect();
+            if having.is_empty() {
+                return Err(invalid(format!(
+                    "no pass of the graph has a param '{param}'"
+                )));
+            }
+            having
+        }
     };
-    let Some(index) = graph.decl.passes.iter().position(|p| p.name == instance) else {
-        let names: Vec<&str> = graph.decl.passes.iter().map(|p| p.name.as_str()).collect();
-        return Err(invalid(format!(
-            "no pass instance '{instance}' (instances: {})",
-            names.join(", ")
-        )));
-    };
-    let pass_name = &graph.decl.passes[index].pass;
-    let declared = &graph.passes[pass_name].decl.params;
+    let param = target
+        .trim()
+        .split_once('.')
+        .map_or(target.trim(), |(_, p)| p);
+    for index in instances {
+        let value = instance_value(graph, index, param, text, provided).map_err(&invalid)?;
+        graph.decl.passes[index]
+            .params
+            .insert(param.to_string(), value);
+    }
+    Ok(())
+}
+
+/// `text` as a value of instance `index`'s param `param`, checked against its type and range.
+fn instance_value(
+    graph: &LoadedGraph,
+    index: usize,
+    param: &str,
+    text: &str,
+    provided: &ProvidedSet,
+) -> Result<ParamValue, String> {
+    let instance = &graph.decl.passes[index].name;
+    let pass = &graph.passes[&graph.decl.passes[index].pass];
+    let declared = pass.params(provided);
     let Some(default) = declared.get(param) else {
         let names: Vec<&str> = declared.keys().map(String::as_str).collect();
-        return Err(invalid(format!(
+        return Err(format!(
             "pass '{instance}' has no param '{param}' (params: {})",
             if names.is_empty() {
                 "none".to_string()
             } else {
                 names.join(", ")
             }
-        )));
+        ));
     };
     let value = parse_value(default.ty(), text)
-        .map_err(|e| invalid(format!("{e} (param type {})", default.ty())))?;
+        .map_err(|e| format!("{e} (param type {})", default.ty()))?;
     if !value.is_finite() {
-        return Err(invalid(format!(
+        return Err(format!(
             "'{text}' is not finite; a param must be a finite number"
-        )));
+        ));
     }
-    let pass = &graph.passes[pass_name];
     if let Some(&(min, max)) = pass.decl.ranges.get(param)
         && !value.within((min, max))
     {
-        return Err(invalid(format!(
+        return Err(format!(
             "'{text}' is outside the param's range {min} to {max} (declared in {})",
             pass.file.display()
-        )));
+        ));
     }
-    graph.decl.passes[index]
-        .params
-        .insert(param.to_string(), value);
-    Ok(())
+    Ok(value)
 }
 
 #[cfg(test)]

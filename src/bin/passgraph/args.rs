@@ -46,7 +46,8 @@ pub(crate) struct ViewArgs {
     pub(crate) size: [u32; 2],
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u32,
-    /// Override a graph param: INSTANCE.PARAM=VALUE (repeatable).
+    /// Override a graph param: INSTANCE.PARAM=VALUE, or PARAM=VALUE on every pass that has it
+    /// (repeatable).
     #[arg(long = "set")]
     pub(crate) set: Vec<String>,
     #[arg(long)]

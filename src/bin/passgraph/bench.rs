@@ -166,7 +166,12 @@ pub(crate) fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run
         let channel = variant.channel.as_ref().unwrap_or(&args.channel);
         let mut graph = passgraph::load_graph(&variant.graph).map_err(|e| e.to_string())?;
         for set in args.set.iter().chain(&variant.set) {
-            passgraph::graph::set_param::set_param(&mut graph, set).map_err(|e| e.to_string())?;
+            passgraph::graph::set_param::set_param(
+                &mut graph,
+                set,
+                passgraph::render::provided::path_tracer(),
+            )
+            .map_err(|e| e.to_string())?;
         }
         let plan = passgraph::compile(&graph, args.size).map_err(|e| e.to_string())?;
         check_render_contract(&plan, channel).map_err(|e| format!("{}: {e}", variant.label))?;
