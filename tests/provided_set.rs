@@ -221,7 +221,7 @@ fn a_variable_the_application_binds_by_name_needs_no_bind_entry_and_an_instance_
         &graph_binding(
             &project,
             "\"dst\": \"out\", \"mesh\": \"my_mesh\"",
-            "\"my_mesh\": Buffer(size: Bytes(64)),",
+            "\"my_mesh\": Buffer(size: Bytes(64), persistent: true),",
         ),
         [16, 16],
         &by_name,

@@ -521,23 +521,23 @@ fn duplicate_key_in_resources_bind_or_params_is_an_error_naming_key_and_line() {
     );
 
     let p = Project::new();
-    let pass = std::fs::read_to_string(p.path("passes/intersect.ron")).unwrap();
+    let pass = std::fs::read_to_string(p.path("passes/ambient.ron")).unwrap();
     let param = pass
         .split("params: {")
         .nth(1)
         .and_then(|rest| rest.split('}').next())
-        .expect("intersect.ron declares params")
+        .expect("ambient.ron declares params")
         .trim()
         .trim_end_matches(',');
     p.write(
-        "passes/intersect.ron",
+        "passes/ambient.ron",
         &pass.replacen(param, &format!("{param}, {param}"), 1),
     );
     let key = param.split('"').nth(1).unwrap();
     fails(
         &["check", &p.arg(GRAPH)],
         1,
-        &["intersect.ron:", &format!("duplicate key \"{key}\"")],
+        &["ambient.ron:", &format!("duplicate key \"{key}\"")],
     );
 }
 
@@ -605,7 +605,7 @@ fn device_limits_are_checked_before_creating_anything_naming_resource_limit_and_
     // Past the limits a graph whose passes all declare `footprint: Pixel` renders in tiles
     // (tests/tiles.rs); one that cannot be tiled still stops before creating anything.
     let p = Project::new();
-    p.edit("passes/accumulate.ron", "footprint: Pixel, ", "");
+    p.edit("passes/accumulate.ron", ", footprint: Pixel)", ")");
     over_limit(
         &p,
         "8192x8192",
