@@ -3,7 +3,7 @@
 //! passes, and every conflicting hand-over between stages has a barrier.
 
 use passgraph::graph::deps::{DependencyError, PassUse};
-use passgraph::graph::id::{KeptPass, ResourceId};
+use passgraph::graph::id::{IdVec, KeptPass, PassIndex, ResourceId};
 use passgraph::graph::interface::Access;
 use passgraph::graph::schedule::{Usage, schedule};
 use proptest::prelude::*;
@@ -57,6 +57,7 @@ proptest! {
         persistent_mask in prop_oneof![Just((1u32 << RESOURCES) - 1), 0u32..(1 << RESOURCES)],
         output_mask in 1u32..(1 << RESOURCES),
     ) {
+        let passes: IdVec<PassIndex, Vec<PassUse>> = IdVec::from(passes);
         let persistent = move |r: ResourceId| persistent_mask & (1 << r.0) != 0;
         // Outputs among the written resources, so an unwritten output does not cull everything.
         let outputs: Vec<ResourceId> = (0..RESOURCES)
@@ -64,7 +65,7 @@ proptest! {
             .map(ResourceId)
             .filter(|&r| passes.iter().flatten().any(|u| u.resource == r && u.access.writes()))
             .collect();
-        let usages: Vec<Vec<(ResourceId, Usage)>> = passes
+        let usages: IdVec<PassIndex, Vec<(ResourceId, Usage)>> = passes
             .iter()
             .map(|p| p.iter().map(|u| (u.resource, usage(u.access))).collect())
             .collect();
@@ -74,7 +75,7 @@ proptest! {
                 // The error must be real: a transient read with no earlier write.
                 prop_assert!(!persistent(resource));
                 prop_assert!(passes[pass].iter().any(|u| u.resource == resource && u.access.reads()));
-                prop_assert!(!passes[..pass.0].iter().flatten().any(|u| u.resource == resource && u.access.writes()));
+                prop_assert!(!passes.as_slice()[..pass.0].iter().flatten().any(|u| u.resource == resource && u.access.writes()));
                 if let Some(w) = later_writer {
                     prop_assert!(w > pass);
                 }
@@ -94,8 +95,8 @@ proptest! {
         // Any two kept passes that conflict run in program order, in different stages.
         for i in 0..kept.len() {
             for j in i + 1..kept.len() {
-                if conflict(&passes[kept[i]], &passes[kept[j]]).is_some() {
-                    prop_assert!(s.levels[i] < s.levels[j], "passes {} and {} conflict", kept[i], kept[j]);
+                if conflict(&passes[kept[KeptPass(i)]], &passes[kept[KeptPass(j)]]).is_some() {
+                    prop_assert!(s.levels[i] < s.levels[j], "passes {} and {} conflict", kept[KeptPass(i)], kept[KeptPass(j)]);
                 }
             }
         }
@@ -108,7 +109,7 @@ proptest! {
         // later stage, after the earlier one.
         for i in 0..kept.len() {
             for j in i + 1..kept.len() {
-                if let Some(r) = conflict(&passes[kept[i]], &passes[kept[j]]) {
+                if let Some(r) = conflict(&passes[kept[KeptPass(i)]], &passes[kept[KeptPass(j)]]) {
                     let (a, b) = (s.levels[i], s.levels[j]);
                     prop_assert!(
                         s.barriers.iter().any(|x| x.resource == r && x.before_stage > a && x.before_stage <= b),

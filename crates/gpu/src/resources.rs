@@ -10,7 +10,7 @@ use super::provided_data::ProvidedData;
 use super::readback::read_mapped;
 use super::texels::create_texel_view;
 use passgraph_graph::format::{TextureDim, TextureFormat};
-use passgraph_graph::id::ResourceId;
+use passgraph_graph::id::{IdVec, ResourceId};
 use passgraph_graph::interface::BindingKind;
 use passgraph_graph::plan::{
     PhysicalResource, Plan, PlannedBinding, PlannedResource, ResourceKind,
@@ -51,7 +51,7 @@ impl BoundResource<'_> {
 
 pub struct GpuResources {
     /// The plan's resources by id: names, shapes and physical objects.
-    resources: Vec<PlannedResource>,
+    resources: IdVec<ResourceId, PlannedResource>,
     /// By index into `Plan::physical`.
     objects: Vec<GpuObject>,
     provided: BTreeMap<ResourceId, ProvidedObject>,

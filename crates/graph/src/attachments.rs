@@ -3,7 +3,7 @@
 
 use super::decl::{PassInstanceDecl, RasterDecl};
 use super::error::GraphError;
-use super::id::ResourceId;
+use super::id::{IdVec, ResourceId};
 use super::load::LoadedPass;
 use super::plan::{PlannedRaster, PlannedResource, ResourceKind};
 use super::provided::ProvidedSet;
@@ -51,7 +51,7 @@ pub(super) fn bind_attachments(
     instance: &PassInstanceDecl,
     pass: &LoadedPass,
     raster: &RasterDecl,
-    resources: &[PlannedResource],
+    resources: &IdVec<ResourceId, PlannedResource>,
     [out_w, out_h]: [u32; 2],
 ) -> Result<PlannedRaster, GraphError> {
     let outputs = &pass.interface.outputs;
@@ -74,7 +74,7 @@ pub(super) fn bind_attachments(
                 shader: pass.file.clone(),
             });
         };
-        let Some(id) = resources.iter().position(|r| &r.name == resource_name) else {
+        let Some(id) = resources.position(|r| &r.name == resource_name) else {
             return Err(GraphError::UnknownResource {
                 graph: graph_file.to_path_buf(),
                 pass: instance.name.clone(),
@@ -83,7 +83,7 @@ pub(super) fn bind_attachments(
                 known: resources.iter().map(|r| r.name.clone()).collect(),
             });
         };
-        Ok((ResourceId(id), &resources[id]))
+        Ok((id, &resources[id]))
     };
     let mismatch =
         |name: &str, resource: &PlannedResource, reason: String| GraphError::Attachment {

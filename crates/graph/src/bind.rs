@@ -5,7 +5,7 @@ use super::compose::PassOrigin;
 use super::decl::{Dispatch, LoadOp, PassInstanceDecl};
 use super::error::GraphError;
 use super::format::{SampleKind, TextureDim, TextureFormat};
-use super::id::ResourceId;
+use super::id::{IdVec, ResourceId};
 use super::interface::{Access, BindingKind, ShaderBinding};
 use super::load::LoadedPass;
 use super::param::ParamValue;
@@ -175,7 +175,7 @@ pub fn bind_instance(
     origin: &PassOrigin,
     instance: &PassInstanceDecl,
     pass: &LoadedPass,
-    resources: &[PlannedResource],
+    resources: &IdVec<ResourceId, PlannedResource>,
     output_size: [u32; 2],
     provided: &ProvidedSet,
 ) -> Result<BoundPass, GraphError> {
@@ -569,7 +569,7 @@ fn merge_uses(
     graph_file: &Path,
     pass: &str,
     bindings: &[PlannedBinding],
-    resources: &[PlannedResource],
+    resources: &IdVec<ResourceId, PlannedResource>,
 ) -> Result<(Vec<(ResourceId, Access)>, Vec<(ResourceId, Usage)>), GraphError> {
     let mut by_resource: BTreeMap<ResourceId, Vec<&PlannedBinding>> = BTreeMap::new();
     for b in bindings {

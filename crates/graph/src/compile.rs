@@ -7,7 +7,7 @@ use super::cull::{ResourceFacts, cull_reason};
 use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
 use super::deps::{DependencyError, PassUse};
 use super::error::GraphError;
-use super::id::{Id, KeptPass, PassIndex, ResourceId};
+use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId};
 use super::lifetime::{LogicalResource, Role, allocate, lifetimes};
 use super::load::{LoadedGraph, load_graph};
 use super::plan::{
@@ -59,11 +59,11 @@ pub fn compile(
             let pass = &graph.passes[&instance.pass];
             bind_instance(origin, instance, pass, &resources, output_size, provided)
         })
-        .collect::<Result<Vec<BoundPass>, _>>()?;
+        .collect::<Result<IdVec<PassIndex, BoundPass>, _>>()?;
 
     let is_persistent = |r: ResourceId| resources[r].persistent;
-    let uses: Vec<Vec<PassUse>> = bound.iter().map(pass_uses).collect();
-    let usages: Vec<_> = bound.iter().map(|b| b.usages.clone()).collect();
+    let uses: IdVec<PassIndex, Vec<PassUse>> = bound.iter().map(pass_uses).collect();
+    let usages: IdVec<PassIndex, _> = bound.iter().map(|b| b.usages.clone()).collect();
     let schedule = schedule(&uses, &usages, is_persistent, &outputs).map_err(|e| {
         let name = |p: PassIndex| decl.passes[p].name.clone();
         let res = |r: ResourceId| resources[r].name.clone();
@@ -240,7 +240,7 @@ fn resolve_resources(
     graph: &LoadedGraph,
     [width, height]: [u32; 2],
     provided: &ProvidedSet,
-) -> Result<Vec<PlannedResource>, GraphError> {
+) -> Result<IdVec<ResourceId, PlannedResource>, GraphError> {
     let decl = &graph.decl;
     let invalid = |name: &str, reason: String| GraphError::InvalidResource {
         graph: graph.resource_origin(name).to_path_buf(),
@@ -342,12 +342,12 @@ fn resolve_resources(
         lifetime: None,
         physical: None,
     }));
-    Ok(out)
+    Ok(out.into())
 }
 
 fn resolve_outputs(
     graph: &LoadedGraph,
-    resources: &mut [PlannedResource],
+    resources: &mut IdVec<ResourceId, PlannedResource>,
 ) -> Result<Vec<ResourceId>, GraphError> {
     let decl = &graph.decl;
     let mut ids = Vec::new();
@@ -369,9 +369,9 @@ fn resolve_outputs(
 }
 
 fn allocate_physical(
-    resources: &mut [PlannedResource],
+    resources: &mut IdVec<ResourceId, PlannedResource>,
     kept: &[PassIndex],
-    bound: &[BoundPass],
+    bound: &IdVec<PassIndex, BoundPass>,
 ) -> Vec<PhysicalResource> {
     let graph_owned = |r: &PlannedResource| !matches!(r.kind, ResourceKind::Provided(_));
     let logical: Vec<LogicalResource<ResourceKind>> = resources

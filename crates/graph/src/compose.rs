@@ -4,6 +4,7 @@
 
 use super::decl::{GraphDecl, IncludeDecl, PassInstanceDecl};
 use super::error::{GraphError, list};
+use super::id::{Id, IdVec, PassIndex};
 use super::load::{clean, parse_ron, read_text};
 use super::provided::ProvidedSet;
 use std::collections::BTreeMap;
@@ -242,7 +243,7 @@ fn apply(
     }
     for name in &decl.remove_passes {
         let i = find_pass(source, "remove_passes", &g.decl.passes, name)?;
-        g.decl.passes.remove(i);
+        g.decl.passes.remove(i.index());
         g.origins.passes.remove(name);
     }
     for name in &decl.remove_resources {
@@ -414,10 +415,10 @@ fn apply(
 fn find_pass(
     source: &Source,
     key: &str,
-    passes: &[PassInstanceDecl],
+    passes: &IdVec<PassIndex, PassInstanceDecl>,
     name: &str,
-) -> Result<usize, GraphError> {
-    passes.iter().position(|p| p.name == name).ok_or_else(|| {
+) -> Result<PassIndex, GraphError> {
+    passes.position(|p| p.name == name).ok_or_else(|| {
         source.error(
             key,
             name,

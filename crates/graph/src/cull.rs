@@ -2,11 +2,11 @@
 //! kept pass reads in the next frame; and why each other pass was culled.
 
 use super::deps::{Dependencies, PassUse, ReadSource};
-use super::id::{Id, PassIndex, ResourceId};
+use super::id::{Id, IdVec, PassIndex, ResourceId};
 
 /// `alive[p]` is true when pass `p` contributes to an output.
-pub fn alive_passes(deps: &Dependencies, outputs: &[ResourceId]) -> Vec<bool> {
-    let mut alive = vec![false; deps.reads.len()];
+pub fn alive_passes(deps: &Dependencies, outputs: &[ResourceId]) -> IdVec<PassIndex, bool> {
+    let mut alive: IdVec<PassIndex, bool> = vec![false; deps.reads.len()].into();
     let mut stack: Vec<PassIndex> = outputs
         .iter()
         .filter_map(|r| deps.final_writer.get(r).copied())
@@ -36,7 +36,7 @@ pub struct ResourceFacts<'a> {
 /// `uses[q]` are pass `q`'s uses, `all` the dependencies among every pass.
 pub fn cull_reason<'a>(
     p: PassIndex,
-    uses: &[Vec<PassUse>],
+    uses: &IdVec<PassIndex, Vec<PassUse>>,
     all: &Dependencies,
     pass_name: impl Fn(PassIndex) -> &'a str,
     resource: impl Fn(ResourceId) -> ResourceFacts<'a>,
@@ -96,9 +96,10 @@ mod tests {
     }
 
     fn alive(uses: &[Vec<PassUse>], persistent: &[usize], outputs: &[usize]) -> Vec<bool> {
-        let deps = dependencies(uses, |r: ResourceId| persistent.contains(&r.0)).unwrap();
+        let uses = IdVec::from(uses.to_vec());
+        let deps = dependencies(&uses, |r: ResourceId| persistent.contains(&r.0)).unwrap();
         let outputs: Vec<ResourceId> = outputs.iter().map(|&r| ResourceId(r)).collect();
-        alive_passes(&deps, &outputs)
+        alive_passes(&deps, &outputs).into_vec()
     }
 
     #[test]

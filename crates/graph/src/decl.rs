@@ -1,6 +1,7 @@
 //! The RON schema: what users write in `passes/*.ron` and `graphs/*.ron`.
 
 use super::format::TextureFormat;
+use super::id::{IdVec, PassIndex};
 use super::param::ParamValue;
 use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
@@ -124,7 +125,7 @@ pub struct GraphDecl {
     pub remove_resources: Vec<String>,
     /// Passes added, in program order: at the end, or at `before`/`after` an existing pass.
     #[serde(default)]
-    pub passes: Vec<PassInstanceDecl>,
+    pub passes: IdVec<PassIndex, PassInstanceDecl>,
     /// Whole new instances for inherited passes of the same name, in the same place.
     #[serde(default)]
     pub replace_passes: Vec<PassInstanceDecl>,

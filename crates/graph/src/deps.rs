@@ -5,7 +5,7 @@
 //! Passes are indexed by `P`: the compiler builds dependencies among all passes (`PassIndex`)
 //! and again among the kept ones (`KeptPass`).
 
-use super::id::{Id, PassIndex, ResourceId};
+use super::id::{Id, IdVec, PassIndex, ResourceId};
 use super::interface::Access;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeFiltered;
@@ -46,7 +46,7 @@ pub struct Dependencies<P = PassIndex> {
     /// Node `i` is pass `i`; edges always go from an earlier to a later pass.
     pub graph: DiGraph<P, Dependency>,
     /// For each pass, each resource it reads and where that version comes from.
-    pub reads: Vec<Vec<(ResourceId, ReadSource<P>)>>,
+    pub reads: IdVec<P, Vec<(ResourceId, ReadSource<P>)>>,
     /// The last pass writing each resource this frame.
     pub final_writer: BTreeMap<ResourceId, P>,
 }
@@ -84,7 +84,7 @@ impl<P> Default for ResourceState<P> {
 /// Builds the dependency DAG. `persistent(r)` says whether reading `r` before any write this
 /// frame is allowed (it then reads the previous frame's content). `uses[i]` is pass `P::new(i)`'s.
 pub fn dependencies<P: Id>(
-    uses: &[Vec<PassUse>],
+    uses: &IdVec<P, Vec<PassUse>>,
     persistent: impl Fn(ResourceId) -> bool,
 ) -> Result<Dependencies<P>, DependencyError<P>> {
     let mut graph = DiGraph::new();
@@ -92,7 +92,7 @@ pub fn dependencies<P: Id>(
         graph.add_node(p);
     }
     let mut state: BTreeMap<ResourceId, ResourceState<P>> = BTreeMap::new();
-    let mut reads = vec![Vec::new(); uses.len()];
+    let mut reads: IdVec<P, Vec<_>> = vec![Vec::new(); uses.len()].into();
     let mut first_error = None;
     let add = |g: &mut DiGraph<P, Dependency>, from: P, to: P, d: Dependency| {
         let (from, to) = (NodeIndex::new(from.index()), NodeIndex::new(to.index()));
@@ -114,13 +114,13 @@ pub fn dependencies<P: Id>(
                             hazard: Hazard::ReadAfterWrite,
                         };
                         add(&mut graph, w, p, dep);
-                        reads[p.index()].push((u.resource, ReadSource::Pass(w)));
+                        reads[p].push((u.resource, ReadSource::Pass(w)));
                     }
                     None => {
                         if !persistent(u.resource) && first_error.is_none() {
                             first_error = Some((p, u.resource));
                         }
-                        reads[p.index()].push((u.resource, ReadSource::PreviousFrame));
+                        reads[p].push((u.resource, ReadSource::PreviousFrame));
                     }
                 }
             }
@@ -164,12 +164,12 @@ pub fn dependencies<P: Id>(
 /// (through read-after-write edges), otherwise a misordering.
 fn read_before_write<P: Id>(
     graph: &DiGraph<P, Dependency>,
-    uses: &[Vec<PassUse>],
+    uses: &IdVec<P, Vec<PassUse>>,
     pass: P,
     resource: ResourceId,
 ) -> DependencyError<P> {
     let later_writer = (pass.index() + 1..uses.len()).map(P::new).find(|&q| {
-        uses[q.index()]
+        uses[q]
             .iter()
             .any(|u| u.resource == resource && u.access.writes())
     });
@@ -224,7 +224,7 @@ mod tests {
     }
 
     fn deps(uses: &[Vec<PassUse>], persistent: bool) -> Result<Dependencies, DependencyError> {
-        dependencies(uses, |_| persistent)
+        dependencies(&IdVec::from(uses.to_vec()), |_| persistent)
     }
 
     #[test]
@@ -236,7 +236,7 @@ mod tests {
         .unwrap();
         assert_eq!(deps.graph.edge_count(), 1);
         assert_eq!(
-            deps.reads[1],
+            deps.reads[PassIndex(1)],
             vec![(ResourceId(0), ReadSource::Pass(PassIndex(0)))]
         );
     }
@@ -248,7 +248,7 @@ mod tests {
         let e = deps.graph.edge_weights().next().unwrap();
         assert_eq!(e.hazard, Hazard::WriteAfterRead);
         assert_eq!(
-            deps.reads[0],
+            deps.reads[PassIndex(0)],
             vec![(ResourceId(0), ReadSource::PreviousFrame)]
         );
     }

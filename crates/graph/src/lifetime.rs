@@ -1,7 +1,7 @@
 //! Resource lifetimes and reuse: transient resources with equal descriptors and disjoint
 //! lifetimes share one GPU object (WebGPU has no memory aliasing, so sharing is whole objects).
 
-use super::id::ResourceId;
+use super::id::{IdVec, ResourceId};
 
 /// The stages in which a resource is used, inclusive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,8 +34,8 @@ pub fn lifetimes(
     roles: &[Role],
     used_in: impl IntoIterator<Item = (ResourceId, usize)>,
     last_stage: usize,
-) -> Vec<Option<Lifetime>> {
-    let mut out: Vec<Option<Lifetime>> = vec![None; roles.len()];
+) -> IdVec<ResourceId, Option<Lifetime>> {
+    let mut out: IdVec<ResourceId, Option<Lifetime>> = vec![None; roles.len()].into();
     for (r, stage) in used_in {
         out[r] = Some(out[r].map_or(
             Lifetime {
@@ -146,7 +146,7 @@ mod tests {
             })
         };
         assert_eq!(
-            lifetimes(&roles, used_in, 4),
+            lifetimes(&roles, used_in, 4).into_vec(),
             vec![span(1, 2), span(0, 4), span(1, 4), None]
         );
     }

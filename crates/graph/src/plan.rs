@@ -3,7 +3,7 @@
 use super::compose::PassOrigin;
 use super::decl::{Footprint, LoadOp};
 use super::format::TextureFormat;
-use super::id::{KeptPass, ResourceId};
+use super::id::{IdVec, KeptPass, ResourceId};
 use super::interface::{Access, BindingKind};
 use super::lifetime::Lifetime;
 use super::param::ParamValue;
@@ -160,10 +160,10 @@ pub struct Plan {
     /// Every graph file `graph` was composed from (extends, include), `graph` first.
     pub graph_files: Vec<PathBuf>,
     pub output_size: [u32; 2],
-    pub resources: Vec<PlannedResource>,
+    pub resources: IdVec<ResourceId, PlannedResource>,
     pub physical: Vec<PhysicalResource>,
     /// Kept passes in program order.
-    pub passes: Vec<PlannedPass>,
+    pub passes: IdVec<KeptPass, PlannedPass>,
     /// Indices into `passes`; every pass of a stage may run once the previous stage is done.
     pub stages: Vec<Vec<KeptPass>>,
     pub barriers: Vec<Barrier>,

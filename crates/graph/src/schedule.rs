@@ -3,7 +3,7 @@
 
 use super::cull::alive_passes;
 use super::deps::{Dependencies, DependencyError, PassUse, dependencies};
-use super::id::{Id, KeptPass, PassIndex, ResourceId};
+use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId};
 use super::interface::BindingKind;
 use petgraph::Direction;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -82,9 +82,9 @@ pub struct Schedule {
     /// Dependencies among all passes (before culling).
     pub all: Dependencies,
     /// `alive[p]`: pass `p` contributes to an output.
-    pub alive: Vec<bool>,
+    pub alive: IdVec<PassIndex, bool>,
     /// Kept passes in program order: `kept[k]` is kept pass `k`.
-    pub kept: Vec<PassIndex>,
+    pub kept: IdVec<KeptPass, PassIndex>,
     /// Dependencies among kept passes only.
     pub deps: Dependencies<KeptPass>,
     /// `levels[k]`: the stage of kept pass `k`.
@@ -97,21 +97,22 @@ pub struct Schedule {
 /// pairs, `persistent(r)` whether `r` may be read before this frame writes it. An error names
 /// passes in program order.
 pub fn schedule(
-    uses: &[Vec<PassUse>],
-    usages: &[Vec<(ResourceId, Usage)>],
+    uses: &IdVec<PassIndex, Vec<PassUse>>,
+    usages: &IdVec<PassIndex, Vec<(ResourceId, Usage)>>,
     persistent: impl Fn(ResourceId) -> bool + Copy,
     outputs: &[ResourceId],
 ) -> Result<Schedule, DependencyError> {
     let all = dependencies(uses, persistent)?;
     let alive = alive_passes(&all, outputs);
-    let kept: Vec<PassIndex> = PassIndex::all(uses.len()).filter(|&p| alive[p]).collect();
+    let kept: IdVec<KeptPass, PassIndex> =
+        PassIndex::all(uses.len()).filter(|&p| alive[p]).collect();
     // Hazards are recomputed among the kept passes: a culled pass may have been the only
     // link between two passes that still conflict with each other.
-    let kept_uses: Vec<Vec<PassUse>> = kept.iter().map(|&p| uses[p].clone()).collect();
+    let kept_uses: IdVec<KeptPass, Vec<PassUse>> = kept.iter().map(|&p| uses[p].clone()).collect();
     let deps = dependencies(&kept_uses, persistent).map_err(|e| in_program_order(e, &kept))?;
     let levels = stage_of_each_pass(&deps.graph);
     let stages = stages(&levels);
-    let kept_usages: Vec<_> = kept.iter().map(|&p| usages[p].clone()).collect();
+    let kept_usages: IdVec<KeptPass, _> = kept.iter().map(|&p| usages[p].clone()).collect();
     let barriers = barriers(&stages, &kept_usages);
     Ok(Schedule {
         all,
@@ -126,7 +127,10 @@ pub fn schedule(
 
 /// An error among the kept passes, its passes named by their place in program order. (Kept
 /// passes have no hazards the whole graph lacks, so this is not expected to happen.)
-fn in_program_order(e: DependencyError<KeptPass>, kept: &[PassIndex]) -> DependencyError {
+fn in_program_order(
+    e: DependencyError<KeptPass>,
+    kept: &IdVec<KeptPass, PassIndex>,
+) -> DependencyError {
     match e {
         DependencyError::ReadBeforeWrite {
             pass,
@@ -170,13 +174,16 @@ pub fn stages<P: Id>(levels: &[usize]) -> Vec<Vec<P>> {
 
 /// One barrier per resource whose usage changes, or is written, across a stage boundary.
 /// `usages[i]` lists (resource, usage) for pass `P::new(i)`.
-pub fn barriers<P: Id>(stages: &[Vec<P>], usages: &[Vec<(ResourceId, Usage)>]) -> Vec<Barrier> {
+pub fn barriers<P: Id>(
+    stages: &[Vec<P>],
+    usages: &IdVec<P, Vec<(ResourceId, Usage)>>,
+) -> Vec<Barrier> {
     let mut last: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
     let mut out = Vec::new();
     for (s, passes) in stages.iter().enumerate() {
         let mut here: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
         for &p in passes {
-            for &(r, usage) in &usages[p.index()] {
+            for &(r, usage) in &usages[p] {
                 let set = here.entry(r).or_default();
                 if !set.contains(&usage) {
                     set.push(usage);
@@ -217,11 +224,11 @@ mod tests {
 
     #[test]
     fn read_after_read_of_the_same_kind_needs_no_barrier() {
-        let usages = vec![
+        let usages: IdVec<KeptPass, _> = IdVec::from(vec![
             vec![(R, Usage::StorageWrite)],
             vec![(R, Usage::StorageRead)],
             vec![(R, Usage::StorageRead)],
-        ];
+        ]);
         let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
         assert_eq!(b[0].before_stage, 1);
@@ -231,20 +238,20 @@ mod tests {
 
     #[test]
     fn write_after_write_gets_a_barrier_though_the_usage_is_unchanged() {
-        let usages = vec![
+        let usages: IdVec<KeptPass, _> = IdVec::from(vec![
             vec![(R, Usage::StorageWrite)],
             vec![(R, Usage::StorageWrite)],
-        ];
+        ]);
         assert_eq!(barriers(&stages(&[&[0], &[1]]), &usages).len(), 1);
     }
 
     #[test]
     fn a_resource_skipping_a_stage_gets_its_barrier_where_it_is_next_used() {
-        let usages = vec![
+        let usages: IdVec<KeptPass, _> = IdVec::from(vec![
             vec![(R, Usage::StorageWrite)],
             vec![(S, Usage::StorageWrite)],
             vec![(R, Usage::Sampled)],
-        ];
+        ]);
         let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
         assert_eq!(b[0].before_stage, 2);

@@ -1,6 +1,7 @@
 //! Overriding one instance's param from the command line: `--set INSTANCE.PARAM=VALUE`.
 
 use super::error::GraphError;
+use super::id::{Id, PassIndex};
 use super::load::LoadedGraph;
 use super::param::{ParamType, ParamValue};
 use super::provided::ProvidedSet;
@@ -61,9 +62,9 @@ pub fn set_param(
             "expected INSTANCE.PARAM=VALUE or PARAM=VALUE".into(),
         ));
     };
-    let instances: Vec<usize> = match target.trim().split_once('.') {
+    let instances: Vec<PassIndex> = match target.trim().split_once('.') {
         Some((instance, _)) => {
-            let Some(index) = graph.decl.passes.iter().position(|p| p.name == instance) else {
+            let Some(index) = graph.decl.passes.position(|p| p.name == instance) else {
                 let names: Vec<&str> = graph.decl.passes.iter().map(|p| p.name.as_str()).collect();
                 return Err(invalid(format!(
                     "no pass instance '{instance}' (instances: {})",
@@ -74,7 +75,7 @@ pub fn set_param(
         }
         None => {
             let param = target.trim();
-            let having: Vec<usize> = (0..graph.decl.passes.len())
+            let having: Vec<PassIndex> = PassIndex::all(graph.decl.passes.len())
                 .filter(|&i| {
                     graph.passes[&graph.decl.passes[i].pass]
                         .params(provided)
@@ -105,7 +106,7 @@ pub fn set_param(
 /// `text` as a value of instance `index`'s param `param`, checked against its type and range.
 fn instance_value(
     graph: &LoadedGraph,
-    index: usize,
+    index: PassIndex,
     param: &str,
     text: &str,
     provided: &ProvidedSet,

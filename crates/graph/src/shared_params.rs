@@ -5,6 +5,7 @@
 use super::compose::PassOrigin;
 use super::decl::PassInstanceDecl;
 use super::error::GraphError;
+use super::id::{IdVec, PassIndex};
 use super::load::LoadedGraph;
 use super::provided::ProvidedSet;
 
@@ -13,10 +14,10 @@ use super::provided::ProvidedSet;
 pub fn with_shared_params(
     graph: &LoadedGraph,
     provided: &ProvidedSet,
-) -> Result<Vec<(PassOrigin, PassInstanceDecl)>, GraphError> {
+) -> Result<IdVec<PassIndex, (PassOrigin, PassInstanceDecl)>, GraphError> {
     let shared = &graph.decl.shared_params;
     let mut reached = vec![false; shared.len()];
-    let mut instances = Vec::with_capacity(graph.decl.passes.len());
+    let mut instances = IdVec::from(Vec::with_capacity(graph.decl.passes.len()));
     for instance in &graph.decl.passes {
         let params = graph.passes[&instance.pass].params(provided);
         let mut origin = graph.pass_origin(&instance.name);
