@@ -324,3 +324,27 @@ fn lifetime_chart_shows_each_resource_written_read_and_alive_by_pass() {
     assert_eq!(row("result"), ["=", "|", "=", "=", "=", "|", "RW"]);
     assert!(chart.contains("persistent"), "{chart}");
 }
+
+/// A viewer keeps every texture a kept pass uses (`keep_used_textures`): the same plan as
+/// listing them as outputs, while a culled pass's texture stays unkept and its pass culled.
+#[test]
+fn keeping_used_textures_marks_the_kept_passes_textures_as_outputs_and_culls_nothing_more() {
+    let path = common::fixtures().join("graphs/culling.ron");
+    let mut keep = passgraph::load_graph(&path).unwrap();
+    keep.keep_used_textures = true;
+    let kept = passgraph::compile(&keep, [32, 32]).unwrap();
+    let outputs: Vec<&str> = kept
+        .resources
+        .iter()
+        .filter(|r| r.output)
+        .map(|r| r.name.as_str())
+        .collect();
+    assert_eq!(outputs, ["a", "out"]);
+    let culled: Vec<&str> = kept.culled.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(culled, ["overwritten", "debug_view"]);
+
+    let mut listed = passgraph::load_graph(&path).unwrap();
+    listed.decl.outputs.push("a".into());
+    let listed = passgraph::compile(&listed, [32, 32]).unwrap();
+    assert_eq!(kept.to_string(), listed.to_string());
+}

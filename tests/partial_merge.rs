@@ -42,7 +42,11 @@ fn sampler_settings(kind: u32) -> RenderSettings {
 /// Renders each range in turn on one session (each restarts the accumulation at its start).
 fn render_ranges(s: &RenderSettings, ranges: &[SampleRange]) -> Vec<Partial> {
     let channel = ChannelSelection::Planes(vec![Channel::Sum]);
-    let mut session = Session::for_partial(s, &channel).unwrap_or_else(|e| panic!("{e}"));
+    let mut session = Session::builder(s)
+        .showing(&channel)
+        .partial()
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
     let fingerprint = Fingerprint::of(s, &session).unwrap();
     ranges
         .iter()
@@ -649,7 +653,7 @@ fn counts_weigh_each_range_per_pixel() {
 
 #[test]
 fn a_graph_without_compensation_cannot_write_a_partial() {
-    // What Session::for_partial checks when the graph is compiled, before any GPU work.
+    // What SessionBuilder::partial checks when the graph is compiled, before any GPU work.
     let plan = common::compile_fixture("seed.ron");
     let e = passgraph::render::session::partial_contract()
         .check(&plan)

@@ -17,7 +17,7 @@ fn render_keeps_the_texture_it_shows_and_decodes_the_layer_asked_for() {
     // ray_texture.wgsl): a unit vector everywhere. `rays` is not an output of pathtracer.ron.
     let channel: ChannelSelection = "rays[1]".parse().unwrap();
     let s = settings("graphs/pathtracer.ron", CORNELL, 16, 1, &[]);
-    let mut session = Session::for_render(&s, &channel).unwrap();
+    let mut session = Session::builder(&s).showing(&channel).build().unwrap();
     session.render_frame().unwrap();
     let directions = session.image(&channel).unwrap();
     assert_eq!(directions.pixels.len(), 16 * 16);
@@ -26,7 +26,9 @@ fn render_keeps_the_texture_it_shows_and_decodes_the_layer_asked_for() {
         assert!((length - 1.0).abs() < 1e-5, "{p:?} is not a direction");
     }
     // A layer the texture lacks is an error naming the layers it has.
-    let error = Session::for_render(&s, &"rays[3]".parse().unwrap())
+    let error = Session::builder(&s)
+        .showing(&"rays[3]".parse().unwrap())
+        .build()
         .err()
         .expect("rays has 3 layers");
     assert!(error.to_string().contains("rays[0] to rays[2]"), "{error}");

@@ -79,7 +79,7 @@ pub fn run(
         }
         _ => {}
     }
-    let mut session = Session::for_render(settings, channels)?;
+    let mut session = Session::builder(settings).showing(channels).build()?;
     let pass_names = session
         .plan()
         .passes

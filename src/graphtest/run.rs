@@ -475,7 +475,10 @@ fn render_seeds(
             max_frames: u32::MAX,
             ..RenderSettings::new(graph.file.clone(), scene.clone())
         };
-        let mut session = Session::with_graph(ctx.clone(), graph.clone(), &settings)
+        let mut session = Session::builder(&settings)
+            .on(ctx.clone())
+            .graph(graph.clone())
+            .build()
             .map_err(|e| format!("cannot render: {e}"))?;
         for _ in 0..case.frames {
             session

@@ -14,6 +14,7 @@ pub mod planes;
 pub mod provided;
 pub mod sample_range;
 pub mod session;
+pub mod session_builder;
 pub mod tile_order;
 pub mod tiles;
 pub mod tiling;

@@ -8,14 +8,14 @@ use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
 use super::sample_range::SampleRange;
+use super::session_builder::SessionBuilder;
 use super::tiling::Tile;
 use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
 use crate::graph::contract::{Contract, MinSize, RequiredBuffer};
 use crate::graph::error::GraphError;
-use crate::graph::format::TextureFormat;
-use crate::graph::load::{LoadedGraph, load_graph};
-use crate::graph::plan::{Plan, ResourceKind};
+use crate::graph::load::LoadedGraph;
+use crate::graph::plan::Plan;
 use crate::graph::set_param::set_param;
 use crate::scene::gpu::{Frame, GpuCamera};
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, SceneOptions, load_scene_with};
@@ -59,15 +59,14 @@ pub struct RenderSettings {
 }
 
 /// Graph textures a session keeps besides the graph's outputs (which it always keeps). A kept
-/// texture is made an output before compiling: never shared with another, and its writer never
-/// culled for it having no reader.
+/// texture is an output: never shared with another, readable after the frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Keep {
     /// The outputs only (and the texture a `render` channel shows).
     #[default]
     Outputs,
-    /// Every texture a kept pass uses: what a viewer may show (found by compiling once
-    /// without them).
+    /// Every texture a kept pass uses: what a viewer may show (the compiler marks them
+    /// once it knows the kept passes: `LoadedGraph::keep_used_textures`).
     EveryTexture,
 }
 
@@ -133,89 +132,15 @@ pub struct Session {
 
 impl Session {
     /// A session of any graph that compiles; reading the image, the dropped samples or the
-    /// rays needs what [`render_contract`] lists (see [`Session::for_render`]).
+    /// rays needs what [`render_contract`] lists (see [`SessionBuilder::showing`]).
     pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
-        Session::build(settings, None, false, || {
-            GpuContext::new(settings.adapter.as_deref())
-        })
+        Session::builder(settings).build()
     }
 
-    /// A session whose graph is first checked against what `render` reads back for `channel`
-    /// (before any GPU work), so a graph that cannot be shown fails with the graph's name and
-    /// resource instead of after the frames.
-    pub fn for_render(
-        settings: &RenderSettings,
-        channel: &ChannelSelection,
-    ) -> Result<Session, RenderError> {
-        Session::build(settings, Some(channel), false, || {
-            GpuContext::new(settings.adapter.as_deref())
-        })
-    }
-
-    /// A session for `render --partial`: as [`Session::for_render`], and the graph must also
-    /// have what [`partial_contract`] lists, which the session keeps (made outputs, so they
-    /// can be read back after the frames).
-    pub fn for_partial(
-        settings: &RenderSettings,
-        channel: &ChannelSelection,
-    ) -> Result<Session, RenderError> {
-        Session::build(settings, Some(channel), true, || {
-            GpuContext::new(settings.adapter.as_deref())
-        })
-    }
-
-    /// A session on an existing device (`settings.adapter` is not consulted): a viewer renders
-    /// on the device its window presents with, and rebuilds sessions on it.
-    pub fn with_context(
-        ctx: GpuContext,
-        settings: &RenderSettings,
-    ) -> Result<Session, RenderError> {
-        Session::build(settings, None, false, || Ok(ctx))
-    }
-
-    /// A session of a graph already loaded (e.g. flattened from changes written inline in a
-    /// graph test) on an existing device; `settings.graph` is not read.
-    pub fn with_graph(
-        ctx: GpuContext,
-        graph: LoadedGraph,
-        settings: &RenderSettings,
-    ) -> Result<Session, RenderError> {
-        Session::build_loaded(graph, settings, None, false, || Ok(ctx))
-    }
-
-    fn build(
-        settings: &RenderSettings,
-        shown: Option<&ChannelSelection>,
-        partial: bool,
-        context: impl FnOnce() -> Result<GpuContext, GpuError>,
-    ) -> Result<Session, RenderError> {
-        Session::build_loaded(
-            load_graph(&settings.graph)?,
-            settings,
-            shown,
-            partial,
-            context,
-        )
-    }
-
-    fn build_loaded(
-        graph: LoadedGraph,
-        settings: &RenderSettings,
-        shown: Option<&ChannelSelection>,
-        partial: bool,
-        context: impl FnOnce() -> Result<GpuContext, GpuError>,
-    ) -> Result<Session, RenderError> {
-        let graph = prepare_graph(graph, settings, shown, partial)?;
-        let plan = compile_for(&graph, settings.size, shown, partial)?;
-        let scene = load_scene_for(settings)?;
-        Session::from_plan(
-            context()?,
-            &graph,
-            plan,
-            settings,
-            Tile::whole(settings.size),
-            scene,
-        )
+    /// A session with more said about it: what it shows, whether it writes a partial file,
+    /// the device it runs on, a graph already loaded.
+    pub fn builder(settings: &RenderSettings) -> SessionBuilder<'_> {
+        SessionBuilder::new(settings)
     }
 
     /// A session of a graph made by [`prepare_graph`] and compiled for `tile.size` by
@@ -697,10 +622,8 @@ pub(crate) fn prepare_graph(
     for s in &settings.set {
         set_param(&mut graph, s, crate::render::provided::path_tracer())?;
     }
-    let mut keep = match &settings.keep {
-        Keep::Outputs => Vec::new(),
-        Keep::EveryTexture => used_textures(&compile(&graph, settings.size, path_tracer())?),
-    };
+    graph.keep_used_textures = settings.keep == Keep::EveryTexture;
+    let mut keep = Vec::new();
     if let Some(ChannelSelection::Texture(name)) = shown {
         keep.push(
             texture_channel(name)
@@ -737,18 +660,6 @@ pub(crate) fn compile_for(
         partial_contract().check(&plan)?;
     }
     Ok(plan)
-}
-
-/// The graph's own colour textures that kept passes use (depth attachments are not read back).
-fn used_textures(plan: &Plan) -> Vec<String> {
-    plan.resources
-        .iter()
-        .filter(|r| {
-            r.physical.is_some()
-                && matches!(r.kind, ResourceKind::Texture { format, .. } if format != TextureFormat::Depth32Float)
-        })
-        .map(|r| r.name.clone())
-        .collect()
 }
 
 /// Every file `graph` was built from, sorted: graph files, pass files, shaders and includes.

@@ -74,7 +74,10 @@ impl Reloader {
     pub fn new(ctx: GpuContext, settings: RenderSettings) -> Result<(Reloader, Session), String> {
         // Read before building, so an edit made while the graph compiles is seen next poll.
         let before = Snapshot::read(graph_file(&settings));
-        let session = Session::with_context(ctx.clone(), &settings).map_err(|e| e.to_string())?;
+        let session = Session::builder(&settings)
+            .on(ctx.clone())
+            .build()
+            .map_err(|e| e.to_string())?;
         let watched = watched_after(&before, &session);
         Ok((
             Reloader {
@@ -102,7 +105,9 @@ impl Reloader {
         if changed.is_empty() {
             return ReloadOutcome::Unchanged;
         }
-        let built = Session::with_context(self.ctx.clone(), &self.settings)
+        let built = Session::builder(&self.settings)
+            .on(self.ctx.clone())
+            .build()
             .and_then(|mut s| s.set_camera(camera).map(|()| s));
         match built {
             Ok(session) => {

@@ -7,6 +7,7 @@ use super::cull::{ResourceFacts, cull_reason};
 use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
 use super::deps::{DependencyError, PassUse};
 use super::error::GraphError;
+use super::format::TextureFormat;
 use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId};
 use super::lifetime::{LogicalResource, Role, allocate, lifetimes};
 use super::load::{LoadedGraph, load_graph};
@@ -106,6 +107,17 @@ pub fn compile(
         ..
     } = schedule;
 
+    if graph.keep_used_textures {
+        // Outputs only decide what is kept; the kept passes are settled, so marking more
+        // outputs now changes lifetimes and aliasing, nothing else.
+        for &p in kept.iter() {
+            for &(r, _) in &bound[p].uses {
+                if is_colour_texture(&resources[r].kind) {
+                    resources[r].output = true;
+                }
+            }
+        }
+    }
     let roles: Vec<Role> = resources
         .iter()
         .map(|r| Role {
@@ -233,6 +245,11 @@ fn check_not_empty(file: &Path, decl: &GraphDecl) -> Result<(), GraphError> {
         graph: file.to_path_buf(),
         reason: reason.to_string(),
     })
+}
+
+/// A texture of the graph's own that can be read back (depth attachments cannot).
+fn is_colour_texture(kind: &ResourceKind) -> bool {
+    matches!(kind, ResourceKind::Texture { format, .. } if *format != TextureFormat::Depth32Float)
 }
 
 /// Declared resources (sized for this output) followed by every provided resource.

@@ -55,6 +55,9 @@ pub struct LoadedGraph {
     pub passes: BTreeMap<String, LoadedPass>,
     /// Include inputs bound to names only a `ProvidedSet` can resolve.
     pub include_targets: Vec<IncludeTarget>,
+    /// Makes every colour texture of the graph that a kept pass uses an output (kept whole,
+    /// readable), without changing which passes are kept: a viewer can show any of them.
+    pub keep_used_textures: bool,
 }
 
 pub fn read_text(path: &Path) -> Result<String, GraphError> {
@@ -190,6 +193,7 @@ pub fn load_flattened(file: &Path, flat: Flattened) -> Result<LoadedGraph, Graph
         graph_files: flat.files,
         passes,
         include_targets: flat.include_targets,
+        keep_used_textures: false,
     })
 }
 
