@@ -250,6 +250,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     write_atomic_set(&[(path, bytes)]).map_err(|(_, e)| e)
 }
 
+/// [`write_atomic`] of a text file, its error a message naming the file.
+pub fn write_text(path: &Path, text: &str) -> Result<(), String> {
+    write_atomic(path, text.as_bytes())
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
 /// Writes several files as a set: all are written and synced beside their targets before any
 /// is renamed into place, so an error before the renames changes none of them. (The renames
 /// themselves are separate steps: POSIX has no rename of several files at once.) The error

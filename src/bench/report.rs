@@ -3,9 +3,7 @@
 use super::rounds::median;
 use super::run::Run;
 use super::series::Series;
-use crate::atomic_write::write_atomic;
 use std::fmt::Write;
-use std::path::Path;
 
 pub fn run_csv(run: &Run) -> String {
     let mut out = String::from("frames,seconds,rmse,relmse,bias");
@@ -30,11 +28,6 @@ pub fn run_csv(run: &Run) -> String {
         out.push('\n');
     }
     out
-}
-
-pub fn write_text(path: &Path, text: &str) -> Result<(), String> {
-    write_atomic(path, text.as_bytes())
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
 fn cell(v: Option<f64>, format: impl Fn(f64) -> String) -> String {

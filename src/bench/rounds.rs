@@ -32,7 +32,7 @@ pub const RUNS_FILE: &str = "runs.ron";
 pub fn write_runs(dir: &Path, runs: &[Run]) -> Result<(), String> {
     let text = ron::ser::to_string_pretty(runs, ron::ser::PrettyConfig::default())
         .map_err(|e| format!("runs: {e}"))?;
-    super::report::write_text(&dir.join(RUNS_FILE), &text)
+    crate::atomic_write::write_text(&dir.join(RUNS_FILE), &text)
 }
 
 pub fn read_runs(dir: &Path) -> Result<Vec<Run>, String> {

@@ -8,7 +8,6 @@ use super::provided::{
     CAMERA, CAMERA_PREVIOUS, FRAME, ProvidedInputs, path_tracer, provided_data, tile_frame,
 };
 use super::sample_range::SampleRange;
-use super::session_builder::SessionBuilder;
 use super::tiling::Tile;
 use crate::gpu::{Executor, GpuContext, GpuError};
 use crate::graph::compile::compile;
@@ -131,18 +130,6 @@ pub struct Session {
 }
 
 impl Session {
-    /// A session of any graph that compiles; reading the image, the dropped samples or the
-    /// rays needs what [`render_contract`] lists (see [`SessionBuilder::showing`]).
-    pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
-        Session::builder(settings).build()
-    }
-
-    /// A session with more said about it: what it shows, whether it writes a partial file,
-    /// the device it runs on, a graph already loaded.
-    pub fn builder(settings: &RenderSettings) -> SessionBuilder<'_> {
-        SessionBuilder::new(settings)
-    }
-
     /// A session of a graph made by [`prepare_graph`] and compiled for `tile.size` by
     /// [`compile_for`], on a scene from [`load_scene_for`] (a tiled render loads it once for all
     /// its tiles).

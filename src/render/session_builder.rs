@@ -10,6 +10,20 @@ use super::tiling::Tile;
 use crate::gpu::GpuContext;
 use crate::graph::load::{LoadedGraph, load_graph};
 
+impl Session {
+    /// A session of any graph that compiles; reading the image, the dropped samples or the
+    /// rays needs what [`render_contract`] lists (see [`SessionBuilder::showing`]).
+    pub fn new(settings: &RenderSettings) -> Result<Session, RenderError> {
+        Session::builder(settings).build()
+    }
+
+    /// A session with more said about it: what it shows, whether it writes a partial file,
+    /// the device it runs on, a graph already loaded.
+    pub fn builder(settings: &RenderSettings) -> SessionBuilder<'_> {
+        SessionBuilder::new(settings)
+    }
+}
+
 pub struct SessionBuilder<'a> {
     settings: &'a RenderSettings,
     shown: Option<&'a ChannelSelection>,

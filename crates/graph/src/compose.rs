@@ -5,8 +5,8 @@
 use super::decl::{GraphDecl, IncludeDecl, PassInstanceDecl};
 use super::error::{GraphError, list};
 use super::id::{Id, IdVec, PassIndex};
-use super::load::{clean, parse_ron, read_text};
 use super::provided::ProvidedSet;
+use super::ron_file::{clean, parse_ron, read_text};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

@@ -26,6 +26,7 @@ pub mod plan_chart;
 pub mod plan_text;
 pub mod provided;
 pub mod reflect;
+pub mod ron_file;
 pub mod schedule;
 pub mod set_param;
 pub mod shader_source;

@@ -7,8 +7,8 @@ use super::interface::ShaderInterface;
 use super::param::ParamValue;
 use super::provided::ProvidedSet;
 use super::reflect::{reflect, reflect_raster};
+use super::ron_file::{clean, parse_ron, read_text};
 use super::shader_source::ShaderSource;
-use serde::de::DeserializeOwned;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -58,23 +58,6 @@ pub struct LoadedGraph {
     /// Makes every colour texture of the graph that a kept pass uses an output (kept whole,
     /// readable), without changing which passes are kept: a viewer can show any of them.
     pub keep_used_textures: bool,
-}
-
-pub fn read_text(path: &Path) -> Result<String, GraphError> {
-    crate::text_file::read_utf8(path).map_err(|source| GraphError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
-/// Parses RON, turning a syntax or schema error into file:line:column.
-pub fn parse_ron<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, GraphError> {
-    ron::from_str(text).map_err(|e| GraphError::Ron {
-        path: path.to_path_buf(),
-        line: e.span.start.line,
-        col: e.span.start.col,
-        message: e.code.to_string(),
-    })
 }
 
 /// Where a graph looks for `passes/<name>.ron`: beside the graph, then beside its directory
@@ -214,25 +197,5 @@ impl LoadedGraph {
 
     pub fn output_origin(&self, name: &str) -> &Path {
         self.origins.outputs.get(name).unwrap_or(&self.file)
-    }
-}
-
-/// Drops `dir/..` pairs lexically so messages show `passes/x.ron`, not `graphs/../passes/x.ron`.
-pub fn clean(path: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out: Vec<Component> = Vec::new();
-    for c in path.components() {
-        match c {
-            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    if out.is_empty() {
-        PathBuf::from(".")
-    } else {
-        out.iter().collect()
     }
 }

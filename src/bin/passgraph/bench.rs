@@ -102,7 +102,7 @@ pub(crate) fn bench(args: BenchArgs) -> Result<(), Failure> {
             .collect::<Result<_, _>>()?;
         let runs = rounds::combine(&read);
         for r in &runs {
-            report::write_text(
+            passgraph::atomic_write::write_text(
                 &args.out.join(format!("{}.csv", r.label)),
                 &report::run_csv(r),
             )?;
@@ -124,7 +124,7 @@ pub(crate) fn bench(args: BenchArgs) -> Result<(), Failure> {
         &extra,
     )?;
     let md = report::markdown(&runs, &extra);
-    report::write_text(&args.out.join("report.md"), &md)?;
+    passgraph::atomic_write::write_text(&args.out.join("report.md"), &md)?;
     say(&md)?;
     eprintln!("wrote {}", args.out.display());
     Ok(())
@@ -202,7 +202,10 @@ pub(crate) fn bench_render(args: &BenchArgs) -> Result<Vec<passgraph::bench::run
         {
             eprintln!("adapter: {}", r.adapter);
         }
-        report::write_text(&args.out.join(format!("{label}.csv")), &report::run_csv(&r))?;
+        passgraph::atomic_write::write_text(
+            &args.out.join(format!("{label}.csv")),
+            &report::run_csv(&r),
+        )?;
         runs.push(r);
     }
     Ok(runs)

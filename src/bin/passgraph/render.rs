@@ -259,7 +259,7 @@ pub(crate) fn render(mut args: RenderArgs) -> Result<(), Failure> {
                     r.frame, r.segment, r.accumulated, r.error.rmse, r.error.relmse, r.error.bias
                 );
             }
-            passgraph::bench::report::write_text(csv, &text)?;
+            passgraph::atomic_write::write_text(csv, &text)?;
         }
     }
     if let (Some((path, _)), Some(held)) = (&checkpoint_in, &resumed) {
