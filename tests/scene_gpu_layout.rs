@@ -1,6 +1,6 @@
 //! The Rust GPU structs against `shaders/lib/scene.wgsl` as naga lays it out: a field added,
 //! reordered or resized on one side only would corrupt every buffer silently. (The sizes
-//! alone are compile-time assertions in src/scene/gpu.rs.)
+//! alone are compile-time assertions in src/scene/gpu_layout.rs.)
 
 mod common;
 

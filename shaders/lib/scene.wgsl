@@ -1,4 +1,5 @@
-// Scene data as the framework provides it. src/scene/gpu.rs mirrors these layouts byte for byte.
+// Scene data as the framework provides it. src/scene/gpu_layout.rs mirrors these layouts byte
+// for byte.
 
 // Set by the framework from the scene (pipeline-overridable constants).
 override scene_light_count: u32 = 0u;
@@ -79,7 +80,7 @@ struct Triangle {
 }
 
 // A material: its model (`kind`, a MATERIAL_* constant) and the model's parameters
-// (src/scene/gpu.rs documents each). ke is emitted radiance, front faces only.
+// (src/scene/gpu_layout.rs documents each). ke is emitted radiance, front faces only.
 struct Material {
     kd: vec3<f32>,
     ns: f32,

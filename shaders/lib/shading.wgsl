@@ -1,5 +1,5 @@
-// Shading normals and texture coordinates from scene.shading (a texel view: src/scene/gpu.rs's
-// TriangleShading, 4 texels per triangle in BVH order).
+// Shading normals and texture coordinates from scene.shading (a texel view:
+// src/scene/gpu_layout.rs's TriangleShading, 4 texels per triangle in BVH order).
 //
 // The includer includes lib/scene.wgsl first (scene_texel, the scene_has_* overrides) and binds
 // scene.shading as texture_storage_2d<rgba32uint, read>. `triangle` is the BVH-order index a

@@ -7,7 +7,7 @@
 use super::fresnel::fresnel_conductor;
 use super::microfacet::{microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible};
 use super::{Bsdf, Sample};
-use crate::scene::gpu::FRESNEL_CONDUCTOR;
+use crate::scene::gpu_layout::FRESNEL_CONDUCTOR;
 use glam::{Vec2, Vec3};
 
 /// The reflectance at cos(wo, m) = `cos_i`: kd, times the complex-index Fresnel term when the

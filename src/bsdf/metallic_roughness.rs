@@ -32,8 +32,8 @@ use super::{Bsdf, Sample};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
-/// The dielectric's reflectance at normal incidence: an index of 1.5 (the specification's).
-pub const DIELECTRIC_F0: f32 = 0.04;
+// The dielectric's reflectance at normal incidence lives with the table computed from it.
+pub use super::metallic_roughness_table::DIELECTRIC_F0;
 
 /// Schlick's (1 - cos)^5, the weight of 1 - f0.
 fn schlick_weight(cos: f32) -> f32 {

@@ -12,10 +12,12 @@
 //! view: per row 16 texels of the 64 albedos, four per texel, then the average in a texel's x.
 
 use super::ggx::{ggx_alpha, ggx_g1, ggx_sample_visible};
-use super::metallic_roughness::DIELECTRIC_F0;
 use super::plastic_tables::gauss_legendre;
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
+
+/// The dielectric's reflectance at normal incidence: an index of 1.5 (the specification's).
+pub const DIELECTRIC_F0: f32 = 0.04;
 
 /// Gauss-Legendre nodes a side for each entry: the integrand has a kink where the reflected
 /// direction crosses the horizon, so the rule converges slowly near grazing (mu 0.05, roughness

@@ -4,7 +4,7 @@
 
 use super::beckmann::{beckmann_d, beckmann_g1, beckmann_pdf_visible, beckmann_sample_visible};
 use super::ggx::{ggx_d, ggx_g1, ggx_pdf_visible, ggx_sample_visible};
-use crate::scene::gpu::Distribution;
+use crate::scene::gpu_layout::Distribution;
 use glam::{Vec2, Vec3};
 
 /// Mitsuba's floor on alpha (its MicrofacetDistribution's, whatever the type).

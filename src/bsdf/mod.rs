@@ -23,7 +23,7 @@ pub mod plastic;
 pub mod plastic_tables;
 pub mod thin_dielectric;
 
-use crate::scene::gpu::{
+use crate::scene::gpu_layout::{
     Distribution, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
     MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
     Material,

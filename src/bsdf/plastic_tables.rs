@@ -9,7 +9,7 @@
 //! On the GPU a table is 17 texels of the materials view (`TABLE_TEXELS`): the 64
 //! transmittances in order, four per texel, then the internal reflectance in the last texel's x.
 
-use crate::scene::gpu::Distribution;
+use crate::scene::gpu_layout::Distribution;
 use std::f64::consts::PI;
 
 /// Mitsuba's MI_ROUGH_TRANSMITTANCE_RES.

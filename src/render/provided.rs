@@ -59,7 +59,7 @@ const RESOURCES: &[Resource] = &[
         name: "scene.materials",
         variable: "materials",
         kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file (128 bytes each: src/scene/gpu.rs), then their tables (src/scene/material_tables.rs)",
+        what: "materials from the MTL file (128 bytes each: src/scene/gpu_layout.rs), then their tables (src/scene/material_tables.rs)",
         bytes: |i| {
             crate::scene::materials_bytes_with_backs(&i.gpu.materials, &i.gpu.back_materials)
         },
@@ -82,7 +82,7 @@ const RESOURCES: &[Resource] = &[
         name: "scene.shading",
         variable: "shading",
         kind: ProvidedKind::StorageBuffer,
-        what: "per triangle in BVH order: corner normals and uvs (64 bytes each: TriangleShading in src/scene/gpu.rs); one zero texel when no triangle has either",
+        what: "per triangle in BVH order: corner normals and uvs (64 bytes each: TriangleShading in src/scene/gpu_layout.rs); one zero texel when no triangle has either",
         bytes: |i| i.gpu.shading_bytes(),
     },
     Resource {
@@ -170,7 +170,7 @@ const OVERRIDES: &[Override] = &[
     Override {
         name: "scene_material_kinds",
         ty: ParamType::U32,
-        what: "bit 1 << kind for each material kind a triangle uses (src/scene/gpu.rs)",
+        what: "bit 1 << kind for each material kind a triangle uses (src/scene/gpu_layout.rs)",
         value: |gpu| f64::from(gpu.material_kinds),
     },
     Override {

@@ -2,7 +2,7 @@
 //! node's first child is the next node and only the miss link (`skip`) is stored.
 
 use super::bvh_grid::{BvhGrid, MAX_ENCODED_LEAF};
-use super::gpu::BvhNode;
+use super::gpu_layout::BvhNode;
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};

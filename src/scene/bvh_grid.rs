@@ -4,7 +4,7 @@
 //! sum is a multiple of `step` below 2^24 steps), so the GPU's decoded boxes are bit for bit the
 //! f32 boxes of [`SceneGpu::nodes`](super::SceneGpu), which the CPU twin traverses.
 
-use super::gpu::{BvhNode, GpuBvhGrid, PackedBvhNode};
+use super::gpu_layout::{BvhNode, GpuBvhGrid, PackedBvhNode};
 use glam::Vec3;
 
 /// Grid cells per axis: q runs over 0..=QUANTA.

@@ -10,7 +10,7 @@
 //! docs/benchmark-history.md: eight copies (one per octant) took 0.90x the CPU time of one on
 //! the bunny; four cost 1-2 % more node visits than eight for half the memory.
 
-use super::gpu::BvhNode;
+use super::gpu_layout::BvhNode;
 use glam::Vec3;
 use rayon::prelude::*;
 

@@ -2,10 +2,14 @@
 //! or a thin lens: Mitsuba's `perspective` and `thinlens`, with its `fov` / `fov_axis`) or
 //! orthographic (Mitsuba's `orthographic`) — turned into the scaled basis the shaders use.
 
-use super::gpu::GpuCamera;
-use super::mesh::MAX_COORDINATE;
+use super::gpu_layout::GpuCamera;
 use glam::{Vec2, Vec3};
 use thiserror::Error;
+
+/// The largest coordinate magnitude a camera point (or a vertex) may have. The renderer works
+/// in f32 and multiplies coordinate differences (cross products, squared distances): with
+/// |c| <= 1e18 those stay below 1.2e37, within f32's 3.4e38.
+pub const MAX_COORDINATE: f32 = 1e18;
 
 /// The image axis a perspective camera's field of view spans, as Mitsuba's `fov_axis`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,10 +5,8 @@
 //! estimation cover them all; the environment's sampling tables follow the weights.
 
 use super::environment::Environment;
-use super::gpu::SceneGpu;
 use super::lights::{
-    LIGHT_AREA, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT_CONSTANT, LIGHT_ENVIRONMENT_MAP, LIGHT_POINT,
-    LIGHT_SPOT, LIGHT_SPOT_TEXTURED, LIGHT_TAG, Light,
+    LIGHT_AREA, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_SPOT_TEXTURED, LIGHT_TAG, Light,
 };
 use super::texture::{LUMINANCE, Texture};
 use glam::Vec3;
@@ -44,11 +42,11 @@ pub struct Emitters {
     pub environment: Option<Environment>,
 }
 
-fn luminance(c: Vec3) -> f32 {
+pub(super) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::from(LUMINANCE))
 }
 
-fn record(kind: u32, p0: Vec3, e1: Vec3, e2: Vec3, second: u32, first: u32) -> Light {
+pub(super) fn record(kind: u32, p0: Vec3, e1: Vec3, e2: Vec3, second: u32, first: u32) -> Light {
     Light {
         p0: p0.into(),
         material: LIGHT_TAG + kind,
@@ -104,7 +102,7 @@ impl AnalyticLight {
     /// weight: an estimate of the irradiance it gives, as an area light's power / d^2 is (the
     /// shader divides point and spot weights by d^2). A textured spot's image, times its
     /// intensity, joins `textures`.
-    fn gpu(&self, textures: &mut Vec<Texture>) -> (Light, f32) {
+    pub(super) fn gpu(&self, textures: &mut Vec<Texture>) -> (Light, f32) {
         match *self {
             AnalyticLight::Point {
                 position,
@@ -182,83 +180,6 @@ impl AnalyticLight {
                 luminance(irradiance),
             ),
         }
-    }
-}
-
-impl SceneGpu {
-    /// Appends the analytic lights, then the environment, to the light list; the environment
-    /// image joins the textures and its tables the weights.
-    pub fn add_emitters(&mut self, emitters: &Emitters) {
-        for light in &emitters.lights {
-            let (record, weight) = light.gpu(&mut self.textures);
-            self.lights.push(record);
-            self.light_power.push(weight);
-        }
-        match &emitters.environment {
-            None => {}
-            Some(Environment::Constant { radiance }) => {
-                self.environment_light = Some(self.lights.len() as u32);
-                let r = *radiance;
-                self.lights.push(record(
-                    LIGHT_ENVIRONMENT_CONSTANT,
-                    Vec3::ZERO,
-                    r,
-                    Vec3::ZERO,
-                    0,
-                    0,
-                ));
-                // A uniform environment's irradiance on any surface: pi L.
-                self.light_power.push(std::f32::consts::PI * luminance(r));
-            }
-            Some(Environment::Map(map)) => {
-                self.environment_light = Some(self.lights.len() as u32);
-                // World to local: the rows of the rotation's transpose.
-                let local = map.to_world.transpose();
-                let texture = self.textures.len() as u32;
-                let (w, h) = (map.image.width as usize, map.image.height as usize);
-                // Mitsuba's layout: one more column, a copy of the first (the image wraps).
-                let mut texels = Vec::with_capacity((w + 1) * h);
-                for row in map.image.texels.chunks(w) {
-                    for t in row.iter().chain(std::iter::once(&row[0])) {
-                        let c = Vec3::from(*t) * map.scale;
-                        texels.push([c.x, c.y, c.z, 0.0]);
-                    }
-                }
-                self.textures
-                    .push(Texture::from_texels(w as u32 + 1, h as u32, texels));
-                self.lights.push(record(
-                    LIGHT_ENVIRONMENT_MAP,
-                    local.row(0),
-                    local.row(1),
-                    local.row(2),
-                    texture,
-                    0, // the table's offset, set below
-                ));
-                self.light_power
-                    .push(std::f32::consts::PI * map.distribution.mean_luminance);
-                self.environment_table = map.distribution.gpu_table();
-            }
-        }
-        if !self.environment_table.is_empty() {
-            // The table starts at the next texel boundary after the weights.
-            let offset = self.light_power.len().div_ceil(4) * 4;
-            let env = self.environment_light.expect("a table belongs to a map") as usize;
-            self.lights[env].first = offset as u32;
-        }
-        self.light_count = self.lights.len() as u32;
-        self.light_kinds = self.lights.iter().fold(0, |k, l| k | 1 << l.kind());
-    }
-
-    /// The `scene.light_power` buffer: each light's selection weight, then (from the next
-    /// multiple of 4) the environment map's sampling tables; one zero texel when empty.
-    pub fn light_power_bytes(&self) -> Vec<u8> {
-        let mut values = self.light_power.clone();
-        if !self.environment_table.is_empty() {
-            values.resize(values.len().div_ceil(4) * 4, 0.0);
-            values.extend_from_slice(&self.environment_table);
-        }
-        values.resize(values.len().max(1).div_ceil(4) * 4, 0.0);
-        bytemuck::cast_slice(&values).to_vec()
     }
 }
 

@@ -8,7 +8,7 @@
 //! ray never hits the surface it leaves (tests/robust_render.rs counts it).
 
 use super::bvh::is_degenerate;
-use super::gpu::{BvhNode, Triangle};
+use super::gpu_layout::{BvhNode, Triangle};
 use glam::{BVec3, Vec3};
 
 /// A ray `origin + t * dir`. `dir` need not be normalised but must be finite and nonzero.

@@ -5,13 +5,12 @@
 //! share it; every metallic-roughness material shares one table of its dielectric layer's
 //! albedo (src/bsdf/metallic_roughness_table.rs), present only when the scene has one.
 
-use super::gpu::{Distribution, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
+use super::gpu_layout::{Distribution, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
 use crate::bsdf::metallic_roughness_table::SpecularAlbedoTable;
 use crate::bsdf::plastic_tables::PlasticTable;
 use std::collections::{BTreeMap, HashMap};
 
-/// A material's `table` when its model needs none.
-pub const NO_TABLE: u32 = u32::MAX;
+pub use super::gpu_layout::NO_TABLE;
 
 /// The low bits of a record's `kind` word that hold the model (a `MATERIAL_*`); the bits above
 /// hold the back-face material's index + 1, 0 when both faces shade alike (lib/scene.wgsl

@@ -7,11 +7,11 @@
 //! Mitsuba plugin (see [`bsdf_xml`]); Blinn-Phong has none and is an error.
 
 use super::camera::{CameraDesc, CameraKind, Projection};
+use super::description::{MAX_MAX_DEPTH, Scene};
 use super::emitters::AnalyticLight;
 use super::environment::{Environment, EnvironmentMap};
-use super::file::{MAX_MAX_DEPTH, Scene};
 use super::filter::PixelFilter;
-use super::gpu::{
+use super::gpu_layout::{
     Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
     MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
     Material, NO_TEXTURE, SURFACE_MAP_BUMP,

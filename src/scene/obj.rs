@@ -10,7 +10,7 @@
 //! maps) are read here with their lines too; which keys make which material: [`material_from`].
 
 use super::error::{Location, SceneError};
-use super::gpu::{
+use super::gpu_layout::{
     Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
     MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
     SURFACE_MAP_BUMP,

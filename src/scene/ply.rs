@@ -5,7 +5,7 @@
 //! a binary one names the element ("face 12") instead.
 
 use super::error::{Location, SceneError};
-use super::gpu::Material;
+use super::gpu_layout::Material;
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle, fan_triangulate};
 use glam::Vec3;
 use ply_rs_bw::parser::{Parser, Reader};

@@ -2,7 +2,7 @@
 //! material only. What per-material accuracy is measured over (tests/materials_accuracy.rs,
 //! examples/material_regions.rs for scripts).
 
-use super::file::Scene;
+use super::description::Scene;
 use super::intersect::Ray;
 use std::collections::BTreeMap;
 

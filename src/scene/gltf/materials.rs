@@ -9,7 +9,9 @@
 //! factor (thresholded at the cut-off for MASK), the normal map with its scale applied.
 
 use super::resources::image_bytes;
-use crate::scene::gpu::{MATERIAL_DIELECTRIC, MATERIAL_METALLIC_ROUGHNESS, Material, NO_TEXTURE};
+use crate::scene::gpu_layout::{
+    MATERIAL_DIELECTRIC, MATERIAL_METALLIC_ROUGHNESS, Material, NO_TEXTURE,
+};
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap, srgb_to_linear};
 use glam::{Mat3, Vec2, Vec3};
 use std::collections::HashMap;

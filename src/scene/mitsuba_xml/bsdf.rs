@@ -1,4 +1,4 @@
-//! BSDFs onto passgraph's material models (src/bsdf/, `Material` in src/scene/gpu.rs):
+//! BSDFs onto passgraph's material models (src/bsdf/, `Material` in src/scene/gpu_layout.rs):
 //!
 //! | Mitsuba | passgraph |
 //! | --- | --- |
@@ -30,7 +30,7 @@ use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 use crate::bsdf::fresnel::fresnel_diffuse_reflectance;
 use crate::bsdf::plastic_tables::PlasticTable;
 use crate::scene::error::SceneError;
-use crate::scene::gpu::{
+use crate::scene::gpu_layout::{
     Distribution, MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
 use glam::{DMat3, Vec3};

@@ -9,14 +9,15 @@ use super::sensor::{Sensor, sensor};
 use super::serialized::load_serialized;
 use super::shapes::{self, Geometry, Triangle};
 use super::textures::load_texture;
+use crate::scene::camera::MAX_COORDINATE;
+use crate::scene::description::{MAX_MAX_DEPTH, Scene, SceneOptions};
 use crate::scene::emitters::{AnalyticLight, Emitters};
 use crate::scene::environment::Environment;
 use crate::scene::error::SceneError;
-use crate::scene::file::{MAX_MAX_DEPTH, Scene, SceneOptions};
-use crate::scene::gpu::Material;
-use crate::scene::mesh::{
-    MAX_COORDINATE, Mesh, MeshTriangle, load_obj_geometry, load_ply_with_attributes,
-};
+use crate::scene::gpu_layout::Material;
+use crate::scene::mesh::{Mesh, MeshTriangle};
+use crate::scene::obj::load_obj_geometry;
+use crate::scene::ply::load_ply_with_attributes;
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
 use std::collections::{BTreeMap, HashMap};
@@ -422,8 +423,8 @@ fn integrator(plugin: &Plugin, options: &SceneOptions) -> Result<(u32, Option<u3
             let rr_at = plugin
                 .property("rr_depth")
                 .map_or(plugin.at.clone(), |p| p.at.clone());
-            let rr =
-                crate::scene::file::check_rr_depth(rr).map_err(|m| plugin.error_at(&rr_at, m))?;
+            let rr = crate::scene::description::check_rr_depth(rr)
+                .map_err(|m| plugin.error_at(&rr_at, m))?;
             // The k-th BSDF sample ends a path of k + 1 segments: past max_depth - 1, none.
             (depth, (rr < depth).then_some(rr))
         }

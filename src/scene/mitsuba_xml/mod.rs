@@ -22,8 +22,8 @@ pub mod spectrum;
 mod textures;
 pub mod transform;
 
+use crate::scene::description::SceneOptions;
 use crate::scene::error::SceneError;
-use crate::scene::file::SceneOptions;
 pub use build::Built;
 use std::path::Path;
 
