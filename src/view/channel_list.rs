@@ -42,3 +42,48 @@ pub fn channel_list(plan: &Plan) -> Vec<(String, ChannelSelection)> {
     }
     list
 }
+
+/// The channels of a viewer's graph and the one shown.
+pub struct ChannelChoice {
+    list: Vec<(String, ChannelSelection)>,
+    current: usize,
+}
+
+impl ChannelChoice {
+    /// The first channel (the sum) shown.
+    pub fn new(plan: &Plan) -> ChannelChoice {
+        ChannelChoice {
+            list: channel_list(plan),
+            current: 0,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.list.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    pub fn current(&self) -> usize {
+        self.current
+    }
+
+    /// The shown channel's label and selection.
+    pub fn shown(&self) -> &(String, ChannelSelection) {
+        &self.list[self.current]
+    }
+
+    /// Shows channel `i` (which must exist).
+    pub fn select(&mut self, i: usize) {
+        self.current = i;
+    }
+
+    /// The channels of a reloaded graph, still showing the same label where it has one.
+    pub fn refresh(&mut self, plan: &Plan) {
+        let label = self.shown().0.clone();
+        self.list = channel_list(plan);
+        self.current = self.list.iter().position(|(l, _)| *l == label).unwrap_or(0);
+    }
+}

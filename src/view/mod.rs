@@ -3,6 +3,7 @@
 
 pub mod camera_control;
 pub mod channel_list;
+pub mod frame_clock;
 pub mod keys;
 pub mod present;
 pub mod reload;

@@ -3,14 +3,14 @@
 
 use super::ViewOptions;
 use super::camera_control::{CameraInput, FlyCamera};
-use super::channel_list::channel_list;
+use super::channel_list::ChannelChoice;
+use super::frame_clock::FrameClock;
 use super::keys::Key;
 use super::present::{Presenter, capturable};
 use super::reload::{ReloadOutcome, Reloader};
 use super::script::{Script, ScriptFrame};
 use crate::gpu::GpuContext;
 use crate::gpu::context::{backends as passgraph_backends, describe};
-use crate::render::channels::ChannelSelection;
 use crate::render::session::Session;
 use crate::scene::CameraDesc;
 use glam::Vec2;
@@ -27,8 +27,6 @@ use winit::window::{Window, WindowId};
 /// Camera movement in a scripted run advances by this much per frame, so it does not depend
 /// on how fast the machine renders.
 const SCRIPT_FRAME_SECONDS: f32 = 1.0 / 30.0;
-/// How often the title's figures are refreshed.
-const TITLE_PERIOD: Duration = Duration::from_millis(500);
 /// When nothing changes (accumulation done, no input), check for edits this often.
 const IDLE_PERIOD: Duration = Duration::from_millis(100);
 
@@ -67,7 +65,7 @@ pub fn run(options: ViewOptions) -> Result<(), String> {
         .run_app(&mut app)
         .map_err(|e| format!("the window's event loop failed: {e}"))?;
     if let Some(viewer) = &app.viewer {
-        viewer.report();
+        viewer.clock.report();
     }
     app.result
 }
@@ -122,9 +120,9 @@ impl ApplicationHandler for App {
         };
         // A script counts frames, so it keeps them coming; so does work in progress.
         let busy = self.script.is_some() || viewer.busy();
-        if busy || viewer.last_redraw.elapsed() >= IDLE_PERIOD {
+        if busy || viewer.clock.since_redraw() >= IDLE_PERIOD {
             event_loop.set_control_flow(ControlFlow::Poll);
-            viewer.window.request_redraw();
+            viewer.display.window.request_redraw();
         } else {
             event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + IDLE_PERIOD));
         }
@@ -202,40 +200,74 @@ impl LiveInput {
     }
 }
 
-/// Running sums of what a frame costs on the CPU side, for the report at exit.
-#[derive(Default)]
-struct Costs {
-    frames: u32,
-    rendered: u32,
-    render: Duration,
-    readback: Duration,
-    present: Duration,
-    reload_poll: Duration,
-}
-
-struct Viewer {
+/// The window and the surface it presents through.
+struct Display {
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
+}
+
+impl Display {
+    fn size(&self) -> [u32; 2] {
+        [self.config.width, self.config.height]
+    }
+
+    fn resize(&mut self, ctx: &GpuContext, size: [u32; 2]) {
+        self.config.width = size[0];
+        self.config.height = size[1];
+        self.surface.configure(ctx.device(), &self.config);
+    }
+
+    /// Draws the presenter's image into the window.
+    fn present(&mut self, ctx: &GpuContext, presenter: &Presenter) -> Result<(), String> {
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                // Reconfigure and show it next frame.
+                self.surface.configure(ctx.device(), &self.config);
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                return Err("the window's surface failed validation".into());
+            }
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let mut encoder = ctx
+            .device()
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("present"),
+            });
+        presenter.draw(&mut encoder, &view);
+        ctx.queue().submit([encoder.finish()]);
+        self.window.pre_present_notify();
+        ctx.queue().present(frame);
+        Ok(())
+    }
+}
+
+/// The viewer's state by role: the display, the device and the session it renders (with the
+/// reloader that rebuilds it), the camera and its input, the channel shown, the clock.
+struct Viewer {
+    display: Display,
     ctx: GpuContext,
     reloader: Reloader,
     session: Session,
     presenter: Presenter,
     fly: FlyCamera,
     camera: CameraDesc,
-    channels: Vec<(String, ChannelSelection)>,
-    channel: usize,
+    channels: ChannelChoice,
     input: LiveInput,
     /// A script drives the camera: it moves by a fixed step per frame.
     scripted: bool,
     /// The shown image is older than the accumulation (or the channel changed).
     stale: bool,
-    frames: u32,
-    started: Instant,
-    last_redraw: Instant,
-    title_at: Instant,
-    title_frames: u32,
-    costs: Costs,
+    clock: FrameClock,
 }
 
 impl Viewer {
@@ -298,29 +330,24 @@ impl Viewer {
         );
         let camera = session.scene_description().camera;
         let presenter = Presenter::new(ctx.device(), format, settings.size);
-        let channels = channel_list(session.plan());
-        let now = Instant::now();
+        let channels = ChannelChoice::new(session.plan());
         Ok(Viewer {
-            window,
-            surface,
-            config,
+            display: Display {
+                window,
+                surface,
+                config,
+            },
             ctx,
             reloader,
             fly: FlyCamera::new(&camera),
             camera,
             channels,
-            channel: 0,
             session,
             presenter,
             input: LiveInput::default(),
             scripted: options.script.is_some(),
             stale: true,
-            frames: 0,
-            started: now,
-            last_redraw: now,
-            title_at: now,
-            title_frames: 0,
-            costs: Costs::default(),
+            clock: FrameClock::start(),
         })
     }
 
@@ -341,9 +368,7 @@ impl Viewer {
         if size[0] == 0 || size[1] == 0 {
             return;
         }
-        self.config.width = size[0];
-        self.config.height = size[1];
-        self.surface.configure(self.ctx.device(), &self.config);
+        self.display.resize(&self.ctx, size);
         self.stale = true;
     }
 
@@ -353,8 +378,7 @@ impl Viewer {
         scripted: Option<ScriptFrame>,
         max_frames: Option<u32>,
     ) -> Result<bool, String> {
-        let since_last = self.last_redraw.elapsed().as_secs_f32();
-        self.last_redraw = Instant::now();
+        let since_last = self.clock.redraw();
         let input = self.input.take(scripted);
         let seconds = if self.scripted {
             SCRIPT_FRAME_SECONDS
@@ -371,7 +395,7 @@ impl Viewer {
                     self.stale = true;
                 }
                 Key::P => self.save()?,
-                Key::C => self.select((self.channel + 1) % self.channels.len()),
+                Key::C => self.select((self.channels.current() + 1) % self.channels.len()),
                 Key::Digit(n) => {
                     let i = usize::from(*n) - 1;
                     if i < self.channels.len() {
@@ -402,46 +426,43 @@ impl Viewer {
 
         let t = Instant::now();
         self.poll_reload();
-        self.costs.reload_poll += t.elapsed();
+        self.clock.costs.reload_poll += t.elapsed();
 
         let t = Instant::now();
         if self.session.render_frame().map_err(|e| e.to_string())? {
             self.session.wait().map_err(|e| e.to_string())?;
-            self.costs.render += t.elapsed();
-            self.costs.rendered += 1;
+            self.clock.costs.render += t.elapsed();
+            self.clock.costs.rendered += 1;
             self.stale = true;
         }
         if self.stale {
             let t = Instant::now();
-            let (label, selection) = &self.channels[self.channel];
+            let (label, selection) = self.channels.shown();
             let image = self
                 .session
                 .image(selection)
                 .map_err(|e| format!("cannot show channel '{label}': {e}"))?;
-            self.costs.readback += t.elapsed();
+            self.clock.costs.readback += t.elapsed();
             let t = Instant::now();
             self.presenter.upload(self.ctx.queue(), &image);
-            self.present()?;
-            self.costs.present += t.elapsed();
+            self.display.present(&self.ctx, &self.presenter)?;
+            self.clock.costs.present += t.elapsed();
             self.stale = false;
         }
         for path in &input.screenshots {
             self.screenshot(path)?;
         }
-        self.frames += 1;
-        self.costs.frames += 1;
-        self.title_frames += 1;
-        if self.title_at.elapsed() >= TITLE_PERIOD {
+        if self.clock.count_frame() {
             self.update_title();
         }
-        let done = max_frames.is_some_and(|n| self.frames >= n);
+        let done = max_frames.is_some_and(|n| self.clock.frames() >= n);
         Ok(!(quit || done))
     }
 
     fn select(&mut self, channel: usize) {
-        self.channel = channel;
+        self.channels.select(channel);
         self.stale = true;
-        eprintln!("channel {}: {}", channel + 1, self.channels[channel].0);
+        eprintln!("channel {}: {}", channel + 1, self.channels.shown().0);
     }
 
     fn poll_reload(&mut self) {
@@ -450,13 +471,7 @@ impl Viewer {
             ReloadOutcome::Reloaded { session, changed } => {
                 eprintln!("reloaded the graph ({} changed)", list(&changed));
                 self.session = *session;
-                let label = self.channels[self.channel].0.clone();
-                self.channels = channel_list(self.session.plan());
-                self.channel = self
-                    .channels
-                    .iter()
-                    .position(|(l, _)| *l == label)
-                    .unwrap_or(0);
+                self.channels.refresh(self.session.plan());
                 self.stale = true;
             }
             ReloadOutcome::Failed { message, changed } => {
@@ -468,45 +483,11 @@ impl Viewer {
         }
     }
 
-    fn present(&mut self) -> Result<(), String> {
-        let frame = match self.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                // Reconfigure and show it next frame.
-                self.surface.configure(self.ctx.device(), &self.config);
-                return Ok(());
-            }
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-                return Ok(());
-            }
-            wgpu::CurrentSurfaceTexture::Validation => {
-                return Err("the window's surface failed validation".into());
-            }
-        };
-        let view = frame
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
-        let mut encoder =
-            self.ctx
-                .device()
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("present"),
-                });
-        self.presenter.draw(&mut encoder, &view);
-        self.ctx.queue().submit([encoder.finish()]);
-        self.window.pre_present_notify();
-        self.ctx.queue().present(frame);
-        Ok(())
-    }
-
     /// Writes what the window shows now, at the window's size.
     fn screenshot(&self, path: &Path) -> Result<(), String> {
-        let shot = self.presenter.capture(
-            self.ctx.device(),
-            self.ctx.queue(),
-            [self.config.width, self.config.height],
-        )?;
+        let shot =
+            self.presenter
+                .capture(self.ctx.device(), self.ctx.queue(), self.display.size())?;
         let mut png = Vec::new();
         shot.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
             .map_err(|e| format!("{}: cannot encode PNG: {e}", path.display()))?;
@@ -518,7 +499,7 @@ impl Viewer {
 
     /// P: the current image as PNG (sRGB) and EXR (linear), under the first unused name.
     fn save(&self) -> Result<(), String> {
-        let (label, selection) = &self.channels[self.channel];
+        let (label, selection) = self.channels.shown();
         let image = self
             .session
             .image(selection)
@@ -554,9 +535,7 @@ impl Viewer {
     }
 
     fn update_title(&mut self) {
-        let fps = f64::from(self.title_frames) / self.title_at.elapsed().as_secs_f64();
-        self.title_at = Instant::now();
-        self.title_frames = 0;
+        let fps = self.clock.title_fps();
         let plan = self.session.plan();
         let times = match self.session.last_frame_times() {
             Some(t) => match t.passes {
@@ -577,27 +556,11 @@ impl Viewer {
             },
             None => "no GPU timestamps".into(),
         };
-        self.window.set_title(&format!(
+        self.display.window.set_title(&format!(
             "passgraph view | {} | {fps:.1} frames/s | {} frames | GPU ms: {times}",
-            self.channels[self.channel].0,
+            self.channels.shown().0,
             self.session.accumulated(),
         ));
-    }
-
-    /// What the run cost, per frame, on stderr.
-    fn report(&self) {
-        let c = &self.costs;
-        let per = |d: Duration, n: u32| d.as_secs_f64() * 1e3 / f64::from(n.max(1));
-        eprintln!(
-            "view: {} frames in {:.2} s ({:.1} frames/s); per frame: render {:.1} ms, readback {:.2} ms, upload+present {:.2} ms, reload poll {:.3} ms",
-            c.frames,
-            self.started.elapsed().as_secs_f64(),
-            f64::from(c.frames) / self.started.elapsed().as_secs_f64(),
-            per(c.render, c.rendered),
-            per(c.readback, c.rendered),
-            per(c.present, c.rendered),
-            per(c.reload_poll, c.frames),
-        );
     }
 }
 
