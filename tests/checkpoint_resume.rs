@@ -222,6 +222,19 @@ fn a_checkpoint_of_another_render_or_past_the_frames_is_refused_naming_it() {
         std::fs::read(dir.path().join("a.exr")).unwrap(),
         std::fs::read(dir.path().join("b.exr")).unwrap()
     );
+    // So does it in tiles, and the rays this process traced are none, not "not counted".
+    let out = passgraph(
+        dir.path(),
+        &render_args("t.exr", &["--resume", "c.exr", "--tile", "16x16"]),
+    );
+    ok(&out);
+    let stdout = text(&out.stdout);
+    assert!(stdout.starts_with("0 frames"), "{stdout}");
+    assert!(stdout.contains(" 0.00 Mrays/s"), "{stdout}");
+    assert_eq!(
+        std::fs::read(dir.path().join("a.exr")).unwrap(),
+        std::fs::read(dir.path().join("t.exr")).unwrap()
+    );
 }
 
 #[test]

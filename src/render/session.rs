@@ -354,6 +354,14 @@ impl Session {
         Ok(self.executor.read_resource(name)?)
     }
 
+    /// Whether some pass counts the rays it traces (binds `ray_count`).
+    pub fn counts_rays(&self) -> bool {
+        self.plan
+            .passes
+            .iter()
+            .any(|p| p.bindings.iter().any(|b| b.name == RAY_COUNT))
+    }
+
     /// The persistent resources a checkpoint would not hold: a render can be resumed bit for
     /// bit only when the accumulation (`result`, `compensation`, `dropped`) is all the state
     /// its frames carry over (ray counts are reporting only). `None` when it is.

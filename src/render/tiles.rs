@@ -392,6 +392,8 @@ impl TiledRender {
             .transpose()
             .map_err(|e| RenderError::Other(format!("{w}x{h}: {e}; use a smaller --size")))?;
         let session = tile_session(ctx, &graph, settings, channel, tiles[0], &scene, keep)?;
+        // Zero, not "not counted", when no tile is rendered here (a finished resume).
+        let rays = session.counts_rays().then_some(0);
         Ok(TiledRender {
             graph,
             settings: settings.clone(),
@@ -408,7 +410,7 @@ impl TiledRender {
                 pixels,
             },
             dropped: 0,
-            rays: None,
+            rays,
             accumulated: 0,
             first_sample: 0,
             kept,
