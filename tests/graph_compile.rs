@@ -14,7 +14,7 @@ fn barrier_list(plan: &Plan) -> Vec<(usize, String, Vec<Usage>, Vec<Usage>)> {
         .iter()
         .map(|b| {
             (
-                b.before_stage,
+                b.before_stage.0,
                 plan.resources[b.resource].name.clone(),
                 b.from.clone(),
                 b.to.clone(),

@@ -90,13 +90,13 @@ proptest! {
         let kept = &s.kept;
         // Every dependency edge goes to a strictly later stage.
         for e in s.deps.graph.raw_edges() {
-            prop_assert!(s.levels[e.source().index()] < s.levels[e.target().index()]);
+            prop_assert!(s.levels[KeptPass(e.source().index())] < s.levels[KeptPass(e.target().index())]);
         }
         // Any two kept passes that conflict run in program order, in different stages.
         for i in 0..kept.len() {
             for j in i + 1..kept.len() {
                 if conflict(&passes[kept[KeptPass(i)]], &passes[kept[KeptPass(j)]]).is_some() {
-                    prop_assert!(s.levels[i] < s.levels[j], "passes {} and {} conflict", kept[KeptPass(i)], kept[KeptPass(j)]);
+                    prop_assert!(s.levels[KeptPass(i)] < s.levels[KeptPass(j)], "passes {} and {} conflict", kept[KeptPass(i)], kept[KeptPass(j)]);
                 }
             }
         }
@@ -110,7 +110,7 @@ proptest! {
         for i in 0..kept.len() {
             for j in i + 1..kept.len() {
                 if let Some(r) = conflict(&passes[kept[KeptPass(i)]], &passes[kept[KeptPass(j)]]) {
-                    let (a, b) = (s.levels[i], s.levels[j]);
+                    let (a, b) = (s.levels[KeptPass(i)], s.levels[KeptPass(j)]);
                     prop_assert!(
                         s.barriers.iter().any(|x| x.resource == r && x.before_stage > a && x.before_stage <= b),
                         "no barrier for resource {} between stages {} and {}", r, a, b

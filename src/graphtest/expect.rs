@@ -86,7 +86,7 @@ pub fn check(expectation: &Expectation, m: &Measured) -> Verdict {
             resource,
         } => {
             let found = m.plan.barriers.iter().any(|b| {
-                b.before_stage == *before_stage && m.plan.resources[b.resource].name == *resource
+                b.before_stage.0 == *before_stage && m.plan.resources[b.resource].name == *resource
             });
             verdict(
                 found,

@@ -8,7 +8,7 @@ use super::pass::{Pipeline, PreparedPass, RenderDraw};
 use super::provided_data::ProvidedData;
 use super::resources::{GpuResources, write_padded};
 use super::timing::{FrameTimes, StageTimer};
-use passgraph_graph::id::KeptPass;
+use passgraph_graph::id::{IdVec, KeptPass, Stage};
 use passgraph_graph::plan::Plan;
 
 pub struct Executor {
@@ -18,7 +18,7 @@ pub struct Executor {
     resources: GpuResources,
     /// In `Plan::passes` order, so `stages` indexes it directly.
     passes: Vec<PreparedPass>,
-    stages: Vec<Vec<KeptPass>>,
+    stages: IdVec<Stage, Vec<KeptPass>>,
     stage_labels: Vec<String>,
     timer: Option<StageTimer>,
 }

@@ -8,7 +8,7 @@ use super::decl::{BufferSize, GraphDecl, ResourceDecl, TextureSize};
 use super::deps::{DependencyError, PassUse};
 use super::error::GraphError;
 use super::format::TextureFormat;
-use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId};
+use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId, Stage};
 use super::lifetime::{LogicalResource, Role, allocate, lifetimes};
 use super::load::{LoadedGraph, load_graph};
 use super::plan::{
@@ -129,7 +129,7 @@ pub fn compile(
         .iter()
         .zip(&levels)
         .flat_map(|(&p, &stage)| bound[p].uses.iter().map(move |&(r, _)| (r, stage)));
-    let last_stage = stages.len().saturating_sub(1);
+    let last_stage = Stage(stages.len().saturating_sub(1));
     for (r, lifetime) in resources
         .iter_mut()
         .zip(lifetimes(&roles, used_in, last_stage))

@@ -55,6 +55,11 @@ id!(
     /// A resource's position in `Plan::resources`.
     ResourceId
 );
+id!(
+    /// A stage's position in `Plan::stages`: the passes of one stage run without barriers
+    /// between them, after every pass of the stages before.
+    Stage
+);
 
 /// A vector indexed by one kind of id. It reads as a `Vec` (`iter`, `len`, `push`), but `v[i]`
 /// takes only its own id type (`as_slice()[n]` for a plain position):

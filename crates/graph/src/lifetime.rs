@@ -1,17 +1,17 @@
 //! Resource lifetimes and reuse: transient resources with equal descriptors and disjoint
 //! lifetimes share one GPU object (WebGPU has no memory aliasing, so sharing is whole objects).
 
-use super::id::{IdVec, ResourceId};
+use super::id::{IdVec, ResourceId, Stage};
 
 /// The stages in which a resource is used, inclusive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lifetime {
-    pub first_stage: usize,
-    pub last_stage: usize,
+    pub first_stage: Stage,
+    pub last_stage: Stage,
 }
 
 impl Lifetime {
-    pub fn extend(self, stage: usize) -> Lifetime {
+    pub fn extend(self, stage: Stage) -> Lifetime {
         Lifetime {
             first_stage: self.first_stage.min(stage),
             last_stage: self.last_stage.max(stage),
@@ -32,8 +32,8 @@ pub struct Role {
 /// (resource, stage) in which a kept pass uses it; `None` for a resource no kept pass uses.
 pub fn lifetimes(
     roles: &[Role],
-    used_in: impl IntoIterator<Item = (ResourceId, usize)>,
-    last_stage: usize,
+    used_in: impl IntoIterator<Item = (ResourceId, Stage)>,
+    last_stage: Stage,
 ) -> IdVec<ResourceId, Option<Lifetime>> {
     let mut out: IdVec<ResourceId, Option<Lifetime>> = vec![None; roles.len()].into();
     for (r, stage) in used_in {
@@ -48,7 +48,7 @@ pub fn lifetimes(
     for (lifetime, role) in out.iter_mut().zip(roles) {
         *lifetime = lifetime.map(|l| {
             if role.persistent {
-                l.extend(0).extend(last_stage)
+                l.extend(Stage(0)).extend(last_stage)
             } else if role.output {
                 l.extend(last_stage)
             } else {
@@ -81,7 +81,7 @@ pub struct Allocation<D> {
 pub fn allocate<D: PartialEq + Clone>(resources: &[LogicalResource<D>]) -> Allocation<D> {
     struct Slot {
         shareable: bool,
-        busy_until: usize,
+        busy_until: Stage,
     }
     let mut order: Vec<usize> = (0..resources.len())
         .filter(|&i| resources[i].lifetime.is_some())
@@ -106,7 +106,7 @@ pub fn allocate<D: PartialEq + Clone>(resources: &[LogicalResource<D>]) -> Alloc
                 physical.push(r.descriptor.clone());
                 slots.push(Slot {
                     shareable: r.shareable,
-                    busy_until: 0,
+                    busy_until: Stage(0),
                 });
                 physical.len() - 1
             }
@@ -134,19 +134,19 @@ mod tests {
             role(false, false),
         ];
         let used_in = [
-            (ResourceId(0), 1),
-            (ResourceId(0), 2),
-            (ResourceId(1), 2),
-            (ResourceId(2), 1),
+            (ResourceId(0), Stage(1)),
+            (ResourceId(0), Stage(2)),
+            (ResourceId(1), Stage(2)),
+            (ResourceId(2), Stage(1)),
         ];
-        let span = |first_stage, last_stage| {
+        let span = |first, last| {
             Some(Lifetime {
-                first_stage,
-                last_stage,
+                first_stage: Stage(first),
+                last_stage: Stage(last),
             })
         };
         assert_eq!(
-            lifetimes(&roles, used_in, 4).into_vec(),
+            lifetimes(&roles, used_in, Stage(4)).into_vec(),
             vec![span(1, 2), span(0, 4), span(1, 4), None]
         );
     }
@@ -155,8 +155,8 @@ mod tests {
         LogicalResource {
             descriptor: desc,
             lifetime: Some(Lifetime {
-                first_stage: first,
-                last_stage: last,
+                first_stage: Stage(first),
+                last_stage: Stage(last),
             }),
             shareable,
         }

@@ -3,7 +3,7 @@
 use super::compose::PassOrigin;
 use super::decl::{Footprint, LoadOp};
 use super::format::TextureFormat;
-use super::id::{IdVec, KeptPass, ResourceId};
+use super::id::{IdVec, KeptPass, ResourceId, Stage};
 use super::interface::{Access, BindingKind};
 use super::lifetime::Lifetime;
 use super::param::ParamValue;
@@ -101,7 +101,7 @@ pub struct PlannedPass {
     pub pass_file: PathBuf,
     pub shader: ShaderSource,
     pub entry: String,
-    pub stage: usize,
+    pub stage: Stage,
     pub workgroups: [u32; 3],
     /// The entry point's `@workgroup_size`.
     pub workgroup_size: [u32; 3],
@@ -165,7 +165,7 @@ pub struct Plan {
     /// Kept passes in program order.
     pub passes: IdVec<KeptPass, PlannedPass>,
     /// Indices into `passes`; every pass of a stage may run once the previous stage is done.
-    pub stages: Vec<Vec<KeptPass>>,
+    pub stages: IdVec<Stage, Vec<KeptPass>>,
     pub barriers: Vec<Barrier>,
     pub edges: Vec<PlannedEdge>,
     pub culled: Vec<CulledPass>,

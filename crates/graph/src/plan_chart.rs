@@ -2,7 +2,7 @@
 //! schedule order, and where it is alive between them; with the physical object each transient
 //! resource lives in, so memory reuse can be read off the chart (`passgraph plan --chart`).
 
-use super::id::{KeptPass, ResourceId};
+use super::id::{KeptPass, ResourceId, Stage};
 use super::interface::Access;
 use super::plan::{Plan, ResourceKind};
 use super::plan_text::human_bytes;
@@ -22,10 +22,9 @@ fn cell(access: Option<Access>, alive: bool) -> &'static str {
 /// The chart as text: a header of stages and passes, then one row per resource.
 pub fn lifetime_chart(plan: &Plan) -> String {
     // Passes in schedule order, each with its stage.
-    let columns: Vec<(usize, KeptPass)> = plan
+    let columns: Vec<(Stage, KeptPass)> = plan
         .stages
-        .iter()
-        .enumerate()
+        .iter_ids()
         .flat_map(|(stage, passes)| passes.iter().map(move |&p| (stage, p)))
         .collect();
     let width = |p: KeptPass| plan.passes[p].name.len().max(2);

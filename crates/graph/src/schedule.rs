@@ -3,7 +3,7 @@
 
 use super::cull::alive_passes;
 use super::deps::{Dependencies, DependencyError, PassUse, dependencies};
-use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId};
+use super::id::{Id, IdVec, KeptPass, PassIndex, ResourceId, Stage};
 use super::interface::BindingKind;
 use petgraph::Direction;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -70,7 +70,7 @@ pub type UsageSet = Vec<Usage>;
 /// A transition before `before_stage`: `resource` was last used as `from`, now as `to`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Barrier {
-    pub before_stage: usize,
+    pub before_stage: Stage,
     pub resource: ResourceId,
     pub from: UsageSet,
     pub to: UsageSet,
@@ -88,8 +88,8 @@ pub struct Schedule {
     /// Dependencies among kept passes only.
     pub deps: Dependencies<KeptPass>,
     /// `levels[k]`: the stage of kept pass `k`.
-    pub levels: Vec<usize>,
-    pub stages: Vec<Vec<KeptPass>>,
+    pub levels: IdVec<KeptPass, Stage>,
+    pub stages: IdVec<Stage, Vec<KeptPass>>,
     pub barriers: Vec<Barrier>,
 }
 
@@ -150,7 +150,7 @@ fn in_program_order(
 
 /// Level of each pass: one more than the highest level among its dependencies. Edges run from
 /// earlier to later passes, so one pass in program order suffices.
-pub fn stage_of_each_pass<P, E>(graph: &DiGraph<P, E>) -> Vec<usize> {
+pub fn stage_of_each_pass<P: Id, E>(graph: &DiGraph<P, E>) -> IdVec<P, Stage> {
     let mut level = vec![0; graph.node_count()];
     for p in 0..graph.node_count() {
         level[p] = graph
@@ -159,15 +159,15 @@ pub fn stage_of_each_pass<P, E>(graph: &DiGraph<P, E>) -> Vec<usize> {
             .max()
             .unwrap_or(0);
     }
-    level
+    level.into_iter().map(Stage).collect()
 }
 
 /// Groups passes by level (`levels[i]` is pass `P::new(i)`'s), each stage in program order.
-pub fn stages<P: Id>(levels: &[usize]) -> Vec<Vec<P>> {
-    let count = levels.iter().max().map_or(0, |m| m + 1);
-    let mut stages = vec![Vec::new(); count];
-    for (p, &l) in levels.iter().enumerate() {
-        stages[l].push(P::new(p));
+pub fn stages<P: Id>(levels: &IdVec<P, Stage>) -> IdVec<Stage, Vec<P>> {
+    let count = levels.iter().max().map_or(0, |m| m.index() + 1);
+    let mut stages: IdVec<Stage, Vec<P>> = vec![Vec::new(); count].into();
+    for (p, &l) in levels.iter_ids() {
+        stages[l].push(p);
     }
     stages
 }
@@ -175,12 +175,12 @@ pub fn stages<P: Id>(levels: &[usize]) -> Vec<Vec<P>> {
 /// One barrier per resource whose usage changes, or is written, across a stage boundary.
 /// `usages[i]` lists (resource, usage) for pass `P::new(i)`.
 pub fn barriers<P: Id>(
-    stages: &[Vec<P>],
+    stages: &IdVec<Stage, Vec<P>>,
     usages: &IdVec<P, Vec<(ResourceId, Usage)>>,
 ) -> Vec<Barrier> {
     let mut last: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
     let mut out = Vec::new();
-    for (s, passes) in stages.iter().enumerate() {
+    for (s, passes) in stages.iter_ids() {
         let mut here: BTreeMap<ResourceId, UsageSet> = BTreeMap::new();
         for &p in passes {
             for &(r, usage) in &usages[p] {
@@ -216,7 +216,7 @@ mod tests {
     const R: ResourceId = ResourceId(0);
     const S: ResourceId = ResourceId(1);
 
-    fn stages(list: &[&[usize]]) -> Vec<Vec<KeptPass>> {
+    fn stages(list: &[&[usize]]) -> IdVec<Stage, Vec<KeptPass>> {
         list.iter()
             .map(|s| s.iter().map(|&k| KeptPass(k)).collect())
             .collect()
@@ -231,7 +231,7 @@ mod tests {
         ]);
         let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
-        assert_eq!(b[0].before_stage, 1);
+        assert_eq!(b[0].before_stage, Stage(1));
         assert_eq!(b[0].from, vec![Usage::StorageWrite]);
         assert_eq!(b[0].to, vec![Usage::StorageRead]);
     }
@@ -254,6 +254,6 @@ mod tests {
         ]);
         let b = barriers(&stages(&[&[0], &[1], &[2]]), &usages);
         assert_eq!(b.len(), 1);
-        assert_eq!(b[0].before_stage, 2);
+        assert_eq!(b[0].before_stage, Stage(2));
     }
 }
