@@ -62,8 +62,13 @@ pub fn set_param(
             "expected INSTANCE.PARAM=VALUE or PARAM=VALUE".into(),
         ));
     };
-    let instances: Vec<PassIndex> = match target.trim().split_once('.') {
-        Some((instance, _)) => {
+    let target = target.trim();
+    let (instance, param) = match target.split_once('.') {
+        Some((instance, param)) => (Some(instance), param),
+        None => (None, target),
+    };
+    let instances: Vec<PassIndex> = match instance {
+        Some(instance) => {
             let Some(index) = graph.decl.passes.position(|p| p.name == instance) else {
                 let names: Vec<&str> = graph.decl.passes.iter().map(|p| p.name.as_str()).collect();
                 return Err(invalid(format!(
@@ -74,7 +79,6 @@ pub fn set_param(
             vec![index]
         }
         None => {
-            let param = target.trim();
             let having: Vec<PassIndex> = PassIndex::all(graph.decl.passes.len())
                 .filter(|&i| {
                     graph.passes[&graph.decl.passes[i].pass]
@@ -90,10 +94,6 @@ pub fn set_param(
             having
         }
     };
-    let param = target
-        .trim()
-        .split_once('.')
-        .map_or(target.trim(), |(_, p)| p);
     for index in instances {
         let value = instance_value(graph, index, param, text, provided).map_err(&invalid)?;
         graph.decl.passes[index]

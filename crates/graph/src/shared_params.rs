@@ -37,12 +37,7 @@ pub fn with_shared_params(
         }
         instances.push((origin, instance));
     }
-    if let Some((name, _)) = shared
-        .iter()
-        .zip(&reached)
-        .find(|(_, r)| !**r)
-        .map(|(s, _)| s)
-    {
+    if let Some((name, _)) = shared.keys().zip(&reached).find(|&(_, &r)| !r) {
         return Err(GraphError::UnusedSharedParam {
             graph: graph
                 .origins
