@@ -12,6 +12,7 @@ pub mod bench;
 pub mod bsdf;
 pub mod builtin;
 pub mod graphtest;
+pub mod material;
 pub mod render;
 pub mod scene;
 pub mod view;

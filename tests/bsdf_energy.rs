@@ -6,10 +6,10 @@ mod common;
 
 use bsdf_support::{Case, Rng, cases, grid, sampled_density};
 use glam::Vec3;
-use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::basis;
-use passgraph::bsdf::metallic_roughness_table::SpecularAlbedoTable;
-use passgraph::bsdf::{eval, is_delta, pdf, sample};
+use passgraph::material::dielectric::relative_eta;
+use passgraph::material::metallic_roughness::table::SpecularAlbedoTable;
+use passgraph::material::{eval, is_delta, pdf, sample};
 use passgraph::scene::{
     Distribution, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
     MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,

@@ -9,10 +9,10 @@ use bsdf_support::{Case, Rng, cases, chi2_p_value, rounding_tolerance};
 use common::bvh_gpu::{Gpu, dispatch_and_read, gpu, output_buffer};
 use common::root;
 use glam::{Vec2, Vec3};
-use passgraph::bsdf::{Sample, eval, is_delta, pdf, sample};
 use passgraph::gpu::texels::create_texel_view;
 use passgraph::graph::shader_source::ShaderSource;
-use passgraph::scene::material_tables::materials_texels;
+use passgraph::material::materials_texels;
+use passgraph::material::{Sample, eval, is_delta, pdf, sample};
 use passgraph::scene::{MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
 
 /// The materials view the probe binds, laid out by scene loading's own code from the cases'

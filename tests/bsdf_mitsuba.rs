@@ -9,7 +9,7 @@ mod common;
 
 use bsdf_support::bsdf_with;
 use glam::Vec3;
-use passgraph::bsdf::{Bsdf, eval, pdf};
+use passgraph::material::{Bsdf, eval, pdf};
 use passgraph::scene::{Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR};
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -156,7 +156,7 @@ fn eval_and_pdf_match_mitsuba_3() {
 /// f32; ours is f64 rounded to f32: 1e-5 relative (measured: 4e-6).
 #[test]
 fn rough_plastic_tables_match_mitsuba_3() {
-    use passgraph::bsdf::plastic_tables::PlasticTable;
+    use passgraph::material::plastic::tables::PlasticTable;
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bsdf/mitsuba_plastic_tables.txt");
     let text = std::fs::read_to_string(&path).expect("the Mitsuba tables");
@@ -198,7 +198,7 @@ fn rough_plastic_tables_match_mitsuba_3() {
 /// transmission alone. Bound: the same f32 expressions in another order, 1e-5 relative.
 #[test]
 fn thin_dielectric_samples_match_mitsuba_3() {
-    use passgraph::bsdf::sample;
+    use passgraph::material::sample;
     use passgraph::scene::MATERIAL_THIN_DIELECTRIC;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bsdf/mitsuba_thin.txt");
     let text = std::fs::read_to_string(&path).expect("the Mitsuba thin table");

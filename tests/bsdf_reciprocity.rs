@@ -13,7 +13,7 @@ mod common;
 
 use bsdf_support::{Rng, materials, tilted_normal};
 use glam::Vec3;
-use passgraph::bsdf::{Bsdf, eval};
+use passgraph::material::{Bsdf, eval};
 use passgraph::scene::MATERIAL_DIELECTRIC;
 
 /// f(wo, wi): eval without its cosine.

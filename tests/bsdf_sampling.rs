@@ -7,11 +7,11 @@ mod common;
 
 use bsdf_support::{Case, Rng, cases, chi2_p_value, rounding_tolerance};
 use glam::Vec3;
-use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
 use passgraph::bsdf::fresnel::fresnel_dielectric;
-use passgraph::bsdf::thin_dielectric::thin_reflectance;
-use passgraph::bsdf::{Sample, eval, is_delta, pdf, sample};
+use passgraph::material::dielectric::relative_eta;
+use passgraph::material::thin_dielectric::thin_reflectance;
+use passgraph::material::{Sample, eval, is_delta, pdf, sample};
 use passgraph::scene::{MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_THIN_DIELECTRIC};
 
 const SAMPLES: usize = 200_000;

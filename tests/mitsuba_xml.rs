@@ -455,7 +455,7 @@ fn a_bad_value_and_a_missing_file_are_errors_at_their_lines() {
 
 #[test]
 fn rough_models_default_to_beckmann_and_conductors_take_presets_eta_k_and_thin_sheets() {
-    use passgraph::scene::gpu::{Distribution, FRESNEL_CONDUCTOR, MATERIAL_THIN_DIELECTRIC};
+    use passgraph::scene::{Distribution, FRESNEL_CONDUCTOR, MATERIAL_THIN_DIELECTRIC};
     let dir = tempfile::tempdir().unwrap();
     let material = |body: &str| {
         let path = scene_file(dir.path(), body);
@@ -485,7 +485,7 @@ fn rough_models_default_to_beckmann_and_conductors_take_presets_eta_k_and_thin_s
     let gold = material(
         r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>"#,
     );
-    let (eta, k) = passgraph::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+    let (eta, k) = passgraph::material::conductor::presets::conductor_preset("Au").unwrap();
     assert_eq!(
         (gold.fresnel, gold.eta, gold.k),
         (FRESNEL_CONDUCTOR, eta.to_array(), k.to_array())
@@ -549,7 +549,7 @@ fn one_sided_and_two_sided_bsdfs_get_their_back_face_materials() {
     );
     let back = two.materials[two.back_materials[&0] as usize];
     assert_eq!(two.materials[0].kd, [0.2; 3]);
-    assert_eq!(back.kind, passgraph::scene::gpu::MATERIAL_CONDUCTOR);
+    assert_eq!(back.kind, passgraph::scene::MATERIAL_CONDUCTOR);
     // Equal fronts with different backs stay two materials.
     let pair = mesh(
         r#"<shape type="sphere"><bsdf type="diffuse"/></shape><shape type="sphere"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></shape>"#,
@@ -572,7 +572,7 @@ fn one_sided_and_two_sided_bsdfs_get_their_back_face_materials() {
 /// stays in its triangles, which the traversal passes at no depth.
 #[test]
 fn a_mask_is_a_null_interaction_and_an_mtl_cutout_stays_a_cutout() {
-    use passgraph::scene::gpu::{Material, SceneGpu};
+    use passgraph::scene::{Material, SceneGpu};
     let dir = tempfile::tempdir().unwrap();
     let path = scene_file(
         dir.path(),

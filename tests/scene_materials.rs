@@ -122,7 +122,7 @@ fn distribution_complex_index_and_thin_keys_reach_the_material() {
     let (_dir, mesh) = load(mtl, &names);
     let m =
         |name: &str| mesh.materials[mesh.material_names.iter().position(|n| n == name).unwrap()];
-    let (eta, k) = passgraph::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+    let (eta, k) = passgraph::material::conductor::presets::conductor_preset("Au").unwrap();
     let au = m("au");
     assert_eq!(
         (au.kind, au.fresnel, au.eta, au.k),

@@ -1,9 +1,11 @@
-// The BSDF library: one material's scattering at a shading point, dispatched on its kind.
-// Each kind's code sits behind scene_has_kind, so a scene's shaders hold only its models.
+// The BSDF library: one material's scattering at a shading point, dispatched on its kind by
+// bsdf_eval, bsdf_pdf, bsdf_sample and bsdf_is_delta (material_models.wgsl, generated from the
+// material registry: each model's WGSL lies in its folder, src/material/NAME/NAME.wgsl). Each
+// kind's code sits behind scene_has_kind, so a scene's shaders hold only its models.
 //
 // The including shader includes lib/scene.wgsl and lib/sampling.wgsl first and declares the
-// scene.materials texel view as the global `materials` (rough plastic reads its tables there:
-// bsdf_plastic.wgsl); this file brings the models' own files.
+// scene.materials texel view as the global `materials` (rough plastic and metallic-roughness
+// read their tables there); this file brings the shared maths and the models.
 //
 // Conventions: directions are world-space unit vectors, wo toward the viewer, wi toward the
 // light; n is the shading normal turned to wo's side; `outside` says whether wo is on the
@@ -19,13 +21,7 @@
 #include "erf.wgsl"
 #include "beckmann.wgsl"
 #include "microfacet.wgsl"
-#include "bsdf_lambert.wgsl"
-#include "bsdf_phong.wgsl"
-#include "bsdf_conductor.wgsl"
-#include "bsdf_plastic.wgsl"
-#include "bsdf_dielectric.wgsl"
-#include "bsdf_thin_dielectric.wgsl"
-#include "bsdf_metallic_roughness.wgsl"
+#include "material_models.wgsl"
 
 // A material at one shading point, textures already applied.
 struct Bsdf {
@@ -63,88 +59,4 @@ fn bsdf_from_material(m: Material) -> Bsdf {
 // The world-to-local rotation: local = v * frame (rows of the transpose are the axes).
 fn bsdf_frame(n: vec3<f32>) -> mat3x3<f32> {
     return basis(n);
-}
-
-fn bsdf_eval(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    if scene_has_kind(MATERIAL_LAMBERT) && b.kind == MATERIAL_LAMBERT {
-        return lambert_eval(b, n, wo, wi);
-    }
-    if scene_has_kind(MATERIAL_PHONG) && b.kind == MATERIAL_PHONG {
-        return phong_eval(b, n, wo, wi);
-    }
-    let frame = bsdf_frame(n);
-    if scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR {
-        return conductor_eval(b, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_PLASTIC) && b.kind == MATERIAL_PLASTIC {
-        return plastic_eval(b, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
-        return dielectric_eval(b, outside, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS) && b.kind == MATERIAL_METALLIC_ROUGHNESS {
-        return metallic_roughness_eval(b, wo * frame, wi * frame);
-    }
-    return vec3<f32>(0.0);
-}
-
-fn bsdf_pdf(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    if scene_has_kind(MATERIAL_LAMBERT) && b.kind == MATERIAL_LAMBERT {
-        return lambert_pdf(n, wo, wi);
-    }
-    if scene_has_kind(MATERIAL_PHONG) && b.kind == MATERIAL_PHONG {
-        return lambert_pdf(n, wo, wi);
-    }
-    let frame = bsdf_frame(n);
-    if scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR {
-        return conductor_pdf(b, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_PLASTIC) && b.kind == MATERIAL_PLASTIC {
-        return plastic_pdf(b, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
-        return dielectric_pdf(b, outside, wo * frame, wi * frame);
-    }
-    if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS) && b.kind == MATERIAL_METALLIC_ROUGHNESS {
-        return metallic_roughness_pdf(b, wo * frame, wi * frame);
-    }
-    return 0.0;
-}
-
-// u picks the direction within a lobe, u_lobe the lobe (plastic, dielectric, metallic-roughness).
-fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
-    -> BsdfSample {
-    if scene_has_kind(MATERIAL_LAMBERT) && b.kind == MATERIAL_LAMBERT {
-        return lambert_sample(b, n, wo, u);
-    }
-    if scene_has_kind(MATERIAL_PHONG) && b.kind == MATERIAL_PHONG {
-        return phong_sample(b, n, wo, u);
-    }
-    let frame = bsdf_frame(n);
-    var s = BsdfSample(n, vec3<f32>(0.0), 0.0, false);
-    if scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR {
-        s = conductor_sample(b, wo * frame, u);
-    } else if scene_has_kind(MATERIAL_PLASTIC) && b.kind == MATERIAL_PLASTIC {
-        s = plastic_sample(b, wo * frame, u, u_lobe);
-    } else if scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC {
-        s = dielectric_sample(b, outside, wo * frame, u, u_lobe);
-    } else if scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC {
-        s = thin_dielectric_sample(b, wo * frame, u_lobe);
-    } else if scene_has_kind(MATERIAL_METALLIC_ROUGHNESS)
-        && b.kind == MATERIAL_METALLIC_ROUGHNESS {
-        s = metallic_roughness_sample(b, wo * frame, u, u_lobe);
-    } else {
-        return s;
-    }
-    s.wi = frame * s.wi;
-    return s;
-}
-
-// True when every lobe is delta (smooth conductor, smooth dielectric, thin dielectric): light
-// sampling cannot contribute, so the shadow ray can be skipped.
-fn bsdf_is_delta(b: Bsdf) -> bool {
-    return (b.alpha == 0.0
-        && ((scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR)
-            || (scene_has_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC)))
-        || (scene_has_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC);
 }

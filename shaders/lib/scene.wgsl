@@ -1,5 +1,5 @@
-// Scene data as the framework provides it. src/scene/gpu_layout.rs mirrors these layouts byte
-// for byte.
+// Scene data as the framework provides it. src/scene/gpu_layout.rs and src/material/record.rs
+// mirror these layouts byte for byte.
 
 // Set by the framework from the scene (pipeline-overridable constants).
 override scene_light_count: u32 = 0u;
@@ -41,7 +41,7 @@ override scene_environment: u32 = 0xffffffffu;
 // Whether a used material has a normal or bump map (lib/surface_map.wgsl).
 override scene_has_surface_maps: bool = true;
 // Whether a used material's rough lobe has Beckmann microfacets (lib/microfacet.wgsl), and
-// whether a used conductor has a complex-index Fresnel term (lib/bsdf_conductor.wgsl): without
+// whether a used conductor has a complex-index Fresnel term (src/material/conductor/conductor.wgsl): without
 // them a material's last two texels are not read and their code is specialised away.
 override scene_has_beckmann: bool = true;
 override scene_has_conductor_fresnel: bool = true;
@@ -79,8 +79,10 @@ struct Triangle {
     opacity: f32,
 }
 
+#include "material_kinds.wgsl"
+
 // A material: its model (`kind`, a MATERIAL_* constant) and the model's parameters
-// (src/scene/gpu_layout.rs documents each). ke is emitted radiance, front faces only.
+// (src/material/record.rs documents each). ke is emitted radiance, front faces only.
 struct Material {
     kd: vec3<f32>,
     ns: f32,
@@ -96,7 +98,7 @@ struct Material {
     map_pr: u32,
     map_d: u32,
     opacity: f32,
-    // The texel index in this view of the model's table (rough plastic's: bsdf_plastic.wgsl),
+    // The texel index in this view of the model's table (Model::table, src/material/tables.rs),
     // or NO_TABLE.
     table: u32,
     // A normal map's texture index, a bump map's with SURFACE_MAP_BUMP set, or NO_TEXTURE
@@ -111,10 +113,6 @@ struct Material {
     k: vec3<f32>,
     fresnel: u32,
 }
-
-// The record's kind word holds the model in its low MATERIAL_KIND_BITS and above them the back
-// face's material + 1, or 0 where both faces shade alike (src/scene/material_tables.rs).
-const MATERIAL_KIND_BITS: u32 = 4u;
 
 const FRESNEL_NONE: u32 = 0u;
 const FRESNEL_CONDUCTOR: u32 = 1u;
@@ -135,13 +133,6 @@ struct TriangleShading {
 const SHADING_HAS_NORMALS: u32 = 1u;
 const SHADING_HAS_UVS: u32 = 2u;
 
-const MATERIAL_LAMBERT: u32 = 0u;
-const MATERIAL_PHONG: u32 = 1u;
-const MATERIAL_CONDUCTOR: u32 = 2u;
-const MATERIAL_PLASTIC: u32 = 3u;
-const MATERIAL_DIELECTRIC: u32 = 4u;
-const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
-const MATERIAL_METALLIC_ROUGHNESS: u32 = 6u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const SURFACE_MAP_BUMP: u32 = 0x80000000u;
 const NO_TABLE: u32 = 0xffffffffu;

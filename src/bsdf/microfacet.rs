@@ -4,8 +4,49 @@
 
 use super::beckmann::{beckmann_d, beckmann_g1, beckmann_pdf_visible, beckmann_sample_visible};
 use super::ggx::{ggx_d, ggx_g1, ggx_pdf_visible, ggx_sample_visible};
-use crate::scene::gpu_layout::Distribution;
 use glam::{Vec2, Vec3};
+
+/// The microfacet normal distribution of a rough model (`Material::distribution`), as Mitsuba
+/// 3's `distribution` parameter; alpha means the same for both (Mitsuba uses it unmapped: the
+/// RMS slope for Beckmann).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Distribution {
+    /// GGX (Trowbridge-Reitz): passgraph's default.
+    #[default]
+    Ggx = 0,
+    /// Beckmann: Mitsuba's default.
+    Beckmann = 1,
+}
+
+impl Distribution {
+    /// The distribution of a `Material::distribution` value; unknown values read as GGX, as
+    /// the shaders treat them.
+    pub fn from_u32(value: u32) -> Distribution {
+        if value == Distribution::Beckmann as u32 {
+            Distribution::Beckmann
+        } else {
+            Distribution::Ggx
+        }
+    }
+
+    /// Mitsuba's name for it (`<string name="distribution" value="...">`).
+    pub fn mitsuba_name(self) -> &'static str {
+        match self {
+            Distribution::Ggx => "ggx",
+            Distribution::Beckmann => "beckmann",
+        }
+    }
+
+    /// The distribution Mitsuba names `name` (case-insensitive, as Mitsuba reads it).
+    pub fn from_mitsuba_name(name: &str) -> Option<Distribution> {
+        match name.to_ascii_lowercase().as_str() {
+            "ggx" => Some(Distribution::Ggx),
+            "beckmann" => Some(Distribution::Beckmann),
+            _ => None,
+        }
+    }
+}
 
 /// Mitsuba's floor on alpha (its MicrofacetDistribution's, whatever the type).
 pub fn microfacet_alpha(alpha: f32) -> f32 {

@@ -59,7 +59,7 @@ const RESOURCES: &[Resource] = &[
         name: "scene.materials",
         variable: "materials",
         kind: ProvidedKind::StorageBuffer,
-        what: "materials from the MTL file (128 bytes each: src/scene/gpu_layout.rs), then their tables (src/scene/material_tables.rs)",
+        what: "materials from the MTL file (128 bytes each: src/material/record.rs), then their tables (src/material/tables.rs)",
         bytes: |i| {
             crate::scene::materials_bytes_with_backs(&i.gpu.materials, &i.gpu.back_materials)
         },

@@ -13,6 +13,7 @@ use super::lights::LIGHT_AREA;
 use super::lights::{Light, light_power, scene_lights};
 use super::mesh::{Mesh, MeshTriangle};
 use super::texture::{Texture, textures_bytes};
+use crate::material::{Material, NO_TEXTURE};
 use glam::Vec3;
 use std::collections::BTreeMap;
 

@@ -4,7 +4,8 @@
 //! over both with one 2D sample and one shadow ray instead of two.
 
 use super::bvh::is_degenerate;
-use super::gpu_layout::{Material, Triangle};
+use super::gpu_layout::Triangle;
+use crate::material::Material;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 

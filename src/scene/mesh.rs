@@ -1,7 +1,7 @@
 //! A triangle soup with materials: what every mesh format loads into.
 
-use super::gpu_layout::Material;
 use super::texture::Texture;
+use crate::material::Material;
 use glam::{Vec2, Vec3};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;

@@ -11,13 +11,14 @@ use super::description::{MAX_MAX_DEPTH, Scene};
 use super::emitters::AnalyticLight;
 use super::environment::{Environment, EnvironmentMap};
 use super::filter::PixelFilter;
-use super::gpu_layout::{
-    Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+use super::mesh::MeshTriangle;
+use super::texture::Texture;
+use crate::bsdf::microfacet::Distribution;
+use crate::material::{
+    FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
     MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
     Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
-use super::mesh::MeshTriangle;
-use super::texture::Texture;
 use glam::Vec3;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -751,7 +752,7 @@ mod tests {
     /// distribution) or a complex-index conductor loses its eta and k.
     #[test]
     fn beckmann_and_complex_index_conductors_are_written_as_such() {
-        let (eta, k) = crate::bsdf::conductor_presets::conductor_preset("Au").unwrap();
+        let (eta, k) = crate::material::conductor::presets::conductor_preset("Au").unwrap();
         let gold = Material::conductor([1.0; 3], 0.2, Distribution::Beckmann, Some((eta, k)));
         let xml = bsdf(gold).unwrap();
         assert_has(

@@ -21,7 +21,6 @@ pub mod gpu_layout;
 pub mod hull;
 pub mod intersect;
 pub mod lights;
-pub mod material_tables;
 pub mod mesh;
 pub mod mesh_file;
 pub mod mitsuba;
@@ -42,13 +41,16 @@ pub use file::{
 };
 pub use filter::PixelFilter;
 pub use gpu::{
-    BvhNode, Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, Frame, GpuBvhGrid, GpuCamera,
-    MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_METALLIC_ROUGHNESS,
-    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_LIGHT, NO_TEXTURE,
-    PackedBvhNode, SHADING_HAS_NORMALS, SHADING_HAS_UVS, SURFACE_MAP_BUMP, SceneGpu, Triangle,
-    TriangleShading,
+    BvhNode, Frame, GpuBvhGrid, GpuCamera, NO_LIGHT, PackedBvhNode, SHADING_HAS_NORMALS,
+    SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
+};
+// The materials a scene holds (src/material), as the loaders and tests name them.
+pub use crate::bsdf::microfacet::Distribution;
+pub use crate::material::{
+    FRESNEL_CONDUCTOR, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
+    MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC,
+    Material, NO_TABLE, NO_TEXTURE, SURFACE_MAP_BUMP, materials_bytes, materials_bytes_with_backs,
 };
 pub use intersect::{Hit, Ray};
-pub use material_tables::{NO_TABLE, materials_bytes, materials_bytes_with_backs};
 pub use mesh::{Mesh, MeshTriangle};
 pub use mesh_file::load_mesh;

@@ -10,14 +10,14 @@
 //! maps) are read here with their lines too; which keys make which material: [`material_from`].
 
 use super::error::{Location, SceneError};
-use super::gpu_layout::{
-    Distribution, FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT,
-    MATERIAL_PHONG, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE,
-    SURFACE_MAP_BUMP,
-};
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle};
 use super::texture::{Encoding, Texture};
-use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
+use crate::bsdf::microfacet::Distribution;
+use crate::material::conductor::presets::{CONDUCTOR_PRESETS, conductor_preset};
+use crate::material::{
+    FRESNEL_CONDUCTOR, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC, MATERIAL_LAMBERT, MATERIAL_PHONG,
+    MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+};
 use glam::{Vec2, Vec3};
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;

@@ -5,8 +5,8 @@
 //! a binary one names the element ("face 12") instead.
 
 use super::error::{Location, SceneError};
-use super::gpu_layout::Material;
 use super::mesh::{DEFAULT_MATERIAL_NAME, Mesh, MeshTriangle, fan_triangulate};
+use crate::material::Material;
 use glam::Vec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property};

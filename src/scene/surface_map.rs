@@ -18,9 +18,9 @@
 //! back-face hit (the local z flips, x and y stay): the perturbed normal seen from the back is
 //! the front one reflected in the tangent plane. The one-sided dielectric sees its negation.
 
-use super::gpu_layout::{MATERIAL_DIELECTRIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP};
 use super::texture::Texture;
 use crate::bsdf::frame::basis;
+use crate::material::{MATERIAL_DIELECTRIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP};
 use glam::{Vec2, Vec3};
 
 /// dp/du and dp/dv of a triangle with corners `p` and texture coordinates `uv` (the

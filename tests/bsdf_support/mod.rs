@@ -6,12 +6,12 @@ pub mod chi2;
 
 use chi2::chi2_test;
 use glam::Vec3;
-use passgraph::bsdf::conductor_presets::conductor_preset;
-use passgraph::bsdf::dielectric::relative_eta;
 use passgraph::bsdf::frame::{basis, to_local};
-use passgraph::bsdf::plastic::specular_probability;
-use passgraph::bsdf::plastic_tables::PlasticTable;
-use passgraph::bsdf::{Bsdf, Sample, pdf};
+use passgraph::material::conductor::presets::conductor_preset;
+use passgraph::material::dielectric::relative_eta;
+use passgraph::material::plastic::specular_probability;
+use passgraph::material::plastic::tables::PlasticTable;
+use passgraph::material::{Bsdf, Sample, pdf};
 use passgraph::scene::{
     Distribution, FRESNEL_CONDUCTOR, FRESNEL_NONE, MATERIAL_CONDUCTOR, MATERIAL_DIELECTRIC,
     MATERIAL_LAMBERT, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PHONG, MATERIAL_PLASTIC,

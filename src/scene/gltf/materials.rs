@@ -1,5 +1,5 @@
 //! glTF materials as passgraph's: `pbrMetallicRoughness` onto the metallic-roughness BRDF
-//! (`MATERIAL_METALLIC_ROUGHNESS`, src/bsdf/metallic_roughness.rs), `KHR_materials_transmission`
+//! (`MATERIAL_METALLIC_ROUGHNESS`, src/material/metallic_roughness/), `KHR_materials_transmission`
 //! (+ `KHR_materials_ior`) onto the rough dielectric, the normal map, emission and the alpha
 //! modes onto cut-outs.
 //!
@@ -9,9 +9,7 @@
 //! factor (thresholded at the cut-off for MASK), the normal map with its scale applied.
 
 use super::resources::image_bytes;
-use crate::scene::gpu_layout::{
-    MATERIAL_DIELECTRIC, MATERIAL_METALLIC_ROUGHNESS, Material, NO_TEXTURE,
-};
+use crate::material::{MATERIAL_DIELECTRIC, MATERIAL_METALLIC_ROUGHNESS, Material, NO_TEXTURE};
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap, srgb_to_linear};
 use glam::{Mat3, Vec2, Vec3};
 use std::collections::HashMap;

@@ -209,7 +209,7 @@ fn node_name(node: &gltf::Node<'_>) -> String {
 
 struct Builder<'a> {
     triangles: Vec<MeshTriangle>,
-    materials: Vec<super::gpu_layout::Material>,
+    materials: Vec<crate::material::Material>,
     names: Vec<String>,
     /// (glTF material index or None for the default, whether the primitive has UVs) ->
     /// passgraph's material and its UV transform.
@@ -240,7 +240,7 @@ impl Builder<'_> {
             (c.material, c.uv_transform)
         };
         if !has_uvs {
-            use super::gpu_layout::NO_TEXTURE;
+            use crate::material::NO_TEXTURE;
             m.map_kd = NO_TEXTURE;
             m.map_ks = NO_TEXTURE;
             m.map_pr = NO_TEXTURE;

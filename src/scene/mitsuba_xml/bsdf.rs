@@ -20,19 +20,20 @@
 //!
 //! The rough models' `distribution` is Beckmann unless the file says ggx (Mitsuba's default);
 //! conductors take `eta`/`k` or a named `material` preset (Mitsuba's RGB values,
-//! `src/bsdf/conductor_presets.rs`); `thindielectric` is passgraph's thin dielectric.
+//! `src/material/conductor/presets.rs`); `thindielectric` is passgraph's thin dielectric.
 
 use super::build::Builder;
 use super::params::ColorParam;
 use super::parse::{At, Plugin, Value};
 use super::textures::{TextureUse, texture};
-use crate::bsdf::conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 use crate::bsdf::fresnel::fresnel_diffuse_reflectance;
-use crate::bsdf::plastic_tables::PlasticTable;
-use crate::scene::error::SceneError;
-use crate::scene::gpu_layout::{
-    Distribution, MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
+use crate::bsdf::microfacet::Distribution;
+use crate::material::conductor::presets::{CONDUCTOR_PRESETS, conductor_preset};
+use crate::material::plastic::tables::PlasticTable;
+use crate::material::{
+    MATERIAL_DIELECTRIC, MATERIAL_PLASTIC, Material, NO_TEXTURE, SURFACE_MAP_BUMP,
 };
+use crate::scene::error::SceneError;
 use glam::{DMat3, Vec3};
 use std::rc::Rc;
 

@@ -1,17 +1,35 @@
-//! Dielectric (`shaders/lib/bsdf_dielectric.wgsl`): a one-sided interface between outside
+//! Dielectric (`dielectric.wgsl`): a one-sided interface between outside
 //! (index 1, where the geometric normal points) and inside (index ior), reflection untinted,
 //! transmission tinted tf, in radiance transport (transmitted radiance scaled by eta_ti^2);
 //! microfacet-rough (GGX or Beckmann, `distribution`) when alpha > 0 as Mitsuba 3's roughdielectric, a delta interface when alpha = 0 as
 //! its dielectric. Local frame: normal +z on wo's side; `eta` is the index across the interface
 //! relative to wo's side (ior outside, 1 / ior inside).
 
-use super::fresnel::fresnel_dielectric;
-use super::microfacet::{
+use crate::bsdf::fresnel::fresnel_dielectric;
+use crate::bsdf::microfacet::{
     microfacet_alpha, microfacet_d, microfacet_g1, microfacet_pdf_visible,
     microfacet_sample_visible,
 };
-use super::{Bsdf, Sample};
+use crate::material::bsdf::{Bsdf, Sample, in_local_frame, sample_in_local_frame};
+use crate::material::model::{Model, Space};
 use glam::{Vec2, Vec3};
+
+pub const KIND: u32 = 4;
+
+pub const MODEL: Model = Model {
+    name: "dielectric",
+    kind: KIND,
+    space: Space::Local,
+    eval: |b, n, outside, wo, wi| in_local_frame(n, wo, wi, |wo, wi| eval(b, outside, wo, wi)),
+    pdf: |b, n, outside, wo, wi| in_local_frame(n, wo, wi, |wo, wi| pdf(b, outside, wo, wi)),
+    sample: |b, n, outside, wo, u, u_lobe| {
+        sample_in_local_frame(n, wo, |wo| sample(b, outside, wo, u, u_lobe))
+    },
+    is_delta: |b| b.alpha == 0.0,
+    microfacet: true,
+    specular: |_| true,
+    table: None,
+};
 
 pub fn relative_eta(b: &Bsdf, outside: bool) -> f32 {
     if outside { b.ior } else { 1.0 / b.ior }

@@ -1,4 +1,4 @@
-//! glTF 2.0's metallic-roughness material (`shaders/lib/bsdf_metallic_roughness.wgsl`), the BRDF
+//! glTF 2.0's metallic-roughness material (`metallic_roughness.wgsl`), the BRDF
 //! of the specification's Appendix B: a mix by `metallic` of a metal (GGX specular, Schlick
 //! Fresnel with f0 = base colour) and a dielectric (the same GGX specular layer with f0 = 0.04
 //! over a Lambertian base of the base colour, weighted by what the layer lets through):
@@ -20,20 +20,43 @@
 //!
 //! W = (1 - E(wo.z)) (1 - E(wi.z)) / (1 - E_avg),
 //!
-//! E the layer's directional albedo (metallic_roughness_table.rs) and E_avg its cosine-weighted
+//! E the layer's directional albedo (table.rs) and E_avg its cosine-weighted
 //! average, so the white dielectric conserves energy (up to the table's interpolation), as
 //! Blender's Principled BSDF, which its glTF importer maps onto, does too. Head-on and smooth,
 //! W = 0.96^2 / 0.912 = 1.01 against the specification's 0.96.
 
-use super::frame::sample_cosine;
-use super::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_sample_visible};
-use super::metallic_roughness_table::SpecularAlbedoTable;
-use super::{Bsdf, Sample};
+pub mod table;
+
+use crate::bsdf::frame::sample_cosine;
+use crate::bsdf::ggx::{ggx_alpha, ggx_d, ggx_g1, ggx_sample_visible};
+use crate::material::bsdf::{Bsdf, Sample, in_local_frame, sample_in_local_frame};
+use crate::material::model::{Model, Space, Table};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
+use table::SpecularAlbedoTable;
 
 // The dielectric's reflectance at normal incidence lives with the table computed from it.
-pub use super::metallic_roughness_table::DIELECTRIC_F0;
+pub use table::DIELECTRIC_F0;
+
+pub const KIND: u32 = 6;
+
+/// glTF 2.0's metallic-roughness BRDF: kd the base colour, ks.x the metallic factor, alpha
+/// roughness^2. Every such material shares one table of its dielectric layer's albedo.
+pub const MODEL: Model = Model {
+    name: "metallic_roughness",
+    kind: KIND,
+    space: Space::Local,
+    eval: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| eval(b, wo, wi)),
+    pdf: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| pdf(b, wo, wi)),
+    sample: |b, n, _, wo, u, u_lobe| sample_in_local_frame(n, wo, |wo| sample(b, wo, u, u_lobe)),
+    is_delta: |_| false,
+    microfacet: false,
+    specular: |_| true,
+    table: Some(Table {
+        key: |_| Some([0; 3]),
+        texels: |_| SpecularAlbedoTable::shared().texels(),
+    }),
+};
 
 /// Schlick's (1 - cos)^5, the weight of 1 - f0.
 fn schlick_weight(cos: f32) -> f32 {

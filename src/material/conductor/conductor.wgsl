@@ -14,7 +14,7 @@ fn conductor_reflectance(b: Bsdf, cos_i: f32) -> vec3<f32> {
     return b.kd;
 }
 
-fn conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+fn conductor_eval(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if b.alpha == 0.0 || wo.z <= 0.0 || wi.z <= 0.0 {
         return vec3<f32>(0.0);
     }
@@ -25,7 +25,7 @@ fn conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     return conductor_reflectance(b, dot(wo, m)) * (d * g / (4.0 * wo.z));
 }
 
-fn conductor_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+fn conductor_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if b.alpha == 0.0 {
         return 0.0;
     }
@@ -38,7 +38,8 @@ fn conductor_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     return microfacet_d(b.distribution, a, m) * microfacet_g1(b.distribution, a, wo, m) / (4.0 * wo.z);
 }
 
-fn conductor_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
+fn conductor_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
+    -> BsdfSample {
     if wo.z <= 0.0 {
         return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
     }
@@ -50,11 +51,16 @@ fn conductor_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
     let a = microfacet_alpha(b.alpha);
     let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let wi = 2.0 * dot(wo, m) * m - wo;
-    let pdf = conductor_pdf(b, wo, wi);
+    let pdf = conductor_pdf(b, outside, wo, wi);
     if pdf <= 0.0 {
         return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
     }
     // f cos / pdf = F kd G1(wi, m): D and G1(wo, m) cancel.
     let weight = conductor_reflectance(b, dot(wo, m)) * microfacet_g1(b.distribution, a, wi, m);
     return BsdfSample(wi, weight, pdf, false);
+}
+
+// The smooth mirror is delta.
+fn conductor_is_delta(b: Bsdf) -> bool {
+    return b.alpha == 0.0;
 }

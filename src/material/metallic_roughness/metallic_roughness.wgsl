@@ -1,9 +1,9 @@
 // glTF 2.0's metallic-roughness material, the BRDF of the specification's Appendix B (the CPU
-// twin, src/bsdf/metallic_roughness.rs, states the formula): a mix by metallic (b.ks.x) of a
+// twin, mod.rs, states the formula): a mix by metallic (b.ks.x) of a
 // metal (GGX specular, Schlick Fresnel with f0 = the base colour b.kd) and a dielectric (the
 // same specular layer with f0 = 0.04 over a Lambertian base that gets what the layer does not
 // reflect: (1 - E(wo.z)) (1 - E(wi.z)) / (1 - E_avg), E the layer's albedo from the table at
-// b.table in `materials` (src/bsdf/metallic_roughness_table.rs; the twin says why this differs
+// b.table in `materials` (table.rs; the twin says why this differs
 // from the specification's 1 - F(v.h)).
 // alpha = roughness^2; 0 makes the specular layer a delta mirror. Two-sided. Local frame:
 // normal +z, wo.z >= 0.
@@ -92,7 +92,7 @@ fn mr_specular(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     return mr_specular_fresnel(b, dot(wo, m)) * (ggx_d(a, m) * g / (4.0 * wo.z));
 }
 
-fn metallic_roughness_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+fn metallic_roughness_eval(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return vec3<f32>(0.0);
     }
@@ -112,7 +112,7 @@ fn mr_specular_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     return ggx_d(a, m) * ggx_g1(a, wo, m) / (4.0 * wo.z);
 }
 
-fn metallic_roughness_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+fn metallic_roughness_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
@@ -127,7 +127,8 @@ fn metallic_roughness_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
 // u_lobe below the specular probability samples the specular layer (a visible GGX normal, or
 // the mirror direction when alpha = 0: a delta of pdf p_s), otherwise the base by the cosine; a
 // rough sample's pdf is the mixture's.
-fn metallic_roughness_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample {
+fn metallic_roughness_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>,
+    u_lobe: f32) -> BsdfSample {
     if wo.z <= 0.0 {
         return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
     }
@@ -143,9 +144,14 @@ fn metallic_roughness_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) 
     } else {
         wi = sample_cosine(vec3<f32>(0.0, 0.0, 1.0), u.x, u.y);
     }
-    let pdf = metallic_roughness_pdf(b, wo, wi);
+    let pdf = metallic_roughness_pdf(b, outside, wo, wi);
     if wi.z <= 0.0 || pdf <= 0.0 {
         return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
     }
-    return BsdfSample(wi, metallic_roughness_eval(b, wo, wi) / pdf, pdf, false);
+    return BsdfSample(wi, metallic_roughness_eval(b, outside, wo, wi) / pdf, pdf, false);
+}
+
+// The diffuse base is never delta.
+fn metallic_roughness_is_delta(b: Bsdf) -> bool {
+    return false;
 }

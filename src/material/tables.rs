@@ -1,29 +1,21 @@
 //! The `scene.materials` resource's contents: the materials' 128-byte records, then the texels
-//! (16 bytes each) of the tables their models need, each material's `table` the texel index of
-//! its own. Rough plastic has one (src/bsdf/plastic_tables.rs: Mitsuba 3's roughplastic
-//! precomputes the same per material), and materials with equal (distribution, alpha, ior)
-//! share it; every metallic-roughness material shares one table of its dielectric layer's
-//! albedo (src/bsdf/metallic_roughness_table.rs), present only when the scene has one.
+//! (16 bytes each) of the tables their models precompute (`Model::table`), each material's
+//! `table` the texel index of its own. Materials of one model with equal table keys share a
+//! table: rough plastics of equal (distribution, alpha, ior), every metallic-roughness
+//! material; a table is present only when a material reads it.
 
-use super::gpu_layout::{Distribution, MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC, Material};
-use crate::bsdf::metallic_roughness_table::SpecularAlbedoTable;
-use crate::bsdf::plastic_tables::PlasticTable;
+use super::model::Table;
+use super::record::{Material, NO_TABLE};
+use super::registry::{MATERIAL_KIND_BITS, model};
 use std::collections::{BTreeMap, HashMap};
-
-pub use super::gpu_layout::NO_TABLE;
-
-/// The low bits of a record's `kind` word that hold the model (a `MATERIAL_*`); the bits above
-/// hold the back-face material's index + 1, 0 when both faces shade alike (lib/scene.wgsl
-/// decodes it). So the 128-byte record keeps its size; 2^28 - 1 materials at most, far more
-/// than a device holds (each record is 128 bytes).
-pub const MATERIAL_KIND_BITS: u32 = 4;
 
 /// Texels (16 bytes) a material record takes.
 const MATERIAL_TEXELS: usize = size_of::<Material>() / 16;
 
-/// Whether `m`'s model reads a table: plastic with a rough coat, metallic-roughness.
-pub fn needs_table(m: &Material) -> bool {
-    (m.kind == MATERIAL_PLASTIC && m.alpha > 0.0) || m.kind == MATERIAL_METALLIC_ROUGHNESS
+/// The table `m` reads, and its key, if its model gives it one.
+fn table_of(m: &Material) -> Option<(Table, [u32; 3])> {
+    let table = model(m.kind)?.table?;
+    Some((table, (table.key)(m)?))
 }
 
 /// The materials with `table` set, and the view's texels: the records' then the tables'.
@@ -40,36 +32,24 @@ pub fn materials_texels_with_backs(
     let mut out = materials.to_vec();
     let mut texels: Vec<[f32; 4]> = Vec::new();
     let mut tables: Vec<[f32; 4]> = Vec::new();
-    let mut shared: HashMap<(u32, u32, u32), u32> = HashMap::new();
-    let mut albedo_table: Option<u32> = None;
+    let mut shared: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
     let start = materials.len() * MATERIAL_TEXELS;
     for m in &mut out {
         m.table = NO_TABLE;
-        if !needs_table(m) {
+        let Some((table, key)) = table_of(m) else {
             continue;
-        }
-        if m.kind == MATERIAL_METALLIC_ROUGHNESS {
-            m.table = *albedo_table.get_or_insert_with(|| {
-                let index = (start + tables.len()) as u32;
-                tables.extend(SpecularAlbedoTable::shared().texels());
-                index
-            });
-            continue;
-        }
-        m.table = *shared
-            .entry((m.distribution, m.alpha.to_bits(), m.ior.to_bits()))
-            .or_insert_with(|| {
-                let index = (start + tables.len()) as u32;
-                let distribution = Distribution::from_u32(m.distribution);
-                tables.extend(PlasticTable::compute(distribution, m.alpha, m.ior).texels());
-                index
-            });
+        };
+        m.table = *shared.entry((m.kind, key)).or_insert_with(|| {
+            let index = (start + tables.len()) as u32;
+            tables.extend((table.texels)(m));
+            index
+        });
     }
     for (i, m) in out.iter().enumerate() {
         let mut record = *m;
         assert!(
             record.kind < 1 << MATERIAL_KIND_BITS,
-            "a MATERIAL_* fits its bits"
+            "a model's kind fits its bits"
         );
         if let Some(&back) = backs.get(&(i as u32)) {
             assert!(
@@ -99,7 +79,12 @@ pub fn materials_bytes_with_backs(materials: &[Material], backs: &BTreeMap<u32, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::plastic_tables::TABLE_TEXELS;
+    use crate::bsdf::microfacet::Distribution;
+    use crate::material::metallic_roughness::table::{
+        SpecularAlbedoTable, TABLE_TEXELS as ALBEDO_TEXELS,
+    };
+    use crate::material::plastic::tables::{PlasticTable, TABLE_TEXELS};
+    use crate::material::registry::{MATERIAL_METALLIC_ROUGHNESS, MATERIAL_PLASTIC};
 
     fn plastic(alpha: f32, ior: f32) -> Material {
         Material {
@@ -140,5 +125,30 @@ mod tests {
         );
         let records: &[Material] = bytemuck::cast_slice(&texels[..ms.len() * MATERIAL_TEXELS]);
         assert_eq!(records, &out[..]);
+    }
+
+    /// Fails when the metallic-roughness albedo table is given to each such material apart,
+    /// or to a scene without one.
+    #[test]
+    fn one_albedo_table_serves_every_metallic_roughness_material() {
+        let mr = |alpha| Material {
+            kind: MATERIAL_METALLIC_ROUGHNESS,
+            alpha,
+            ..Material::DEFAULT
+        };
+        let ms = [mr(0.1), Material::DEFAULT, mr(0.5)];
+        let (out, texels) = materials_texels(&ms);
+        let start = (ms.len() * MATERIAL_TEXELS) as u32;
+        assert_eq!(
+            (out[0].table, out[1].table, out[2].table),
+            (start, NO_TABLE, start)
+        );
+        assert_eq!(texels.len(), ms.len() * MATERIAL_TEXELS + ALBEDO_TEXELS);
+        assert_eq!(
+            texels[start as usize..],
+            SpecularAlbedoTable::shared().texels()[..]
+        );
+        let (_, without) = materials_texels(&[Material::DEFAULT]);
+        assert_eq!(without.len(), MATERIAL_TEXELS);
     }
 }

@@ -95,3 +95,8 @@ fn dielectric_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe
     }
     return BsdfSample(wi, weight * g, pdf, false);
 }
+
+// The smooth interface is delta.
+fn dielectric_is_delta(b: Bsdf) -> bool {
+    return b.alpha == 0.0;
+}

@@ -6,7 +6,7 @@
 //
 // Requires the global `materials`, the scene.materials texel view (texture_storage_2d
 // rgba32uint, read): the rough coat's tables live there after the materials, 17 texels from
-// b.table (src/bsdf/plastic_tables.rs): the coat's external transmittance at cos theta = i / 63,
+// b.table (tables.rs): the coat's external transmittance at cos theta = i / 63,
 // i = 0..63, four per texel, then the internal reflectance in the 17th texel's x.
 
 // The probability of sampling the coat's reflection rather than the base, from the fraction of
@@ -33,7 +33,7 @@ fn plastic_diffuse(b: Bsdf, cos_o: f32, cos_i: f32) -> vec3<f32> {
     return b.kd / (1.0 - fdr_int) * scale;
 }
 
-fn plastic_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+fn plastic_eval(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if b.table != NO_TABLE {
         return rough_plastic_eval(b, wo, wi);
     }
@@ -43,7 +43,7 @@ fn plastic_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     return plastic_diffuse(b, wo.z, wi.z);
 }
 
-fn plastic_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+fn plastic_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if b.table != NO_TABLE {
         return rough_plastic_pdf(b, wo, wi);
     }
@@ -56,7 +56,8 @@ fn plastic_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
 
 // u_lobe < the specular probability picks the coat's reflection (delta; pdf is that
 // probability), otherwise the base by the cosine.
-fn plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample {
+fn plastic_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
+    -> BsdfSample {
     if b.table != NO_TABLE {
         return rough_plastic_sample(b, wo, u, u_lobe);
     }
@@ -150,4 +151,9 @@ fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> Bs
         return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
     }
     return BsdfSample(wi, rough_plastic_eval(b, wo, wi) / pdf, pdf, false);
+}
+
+// The diffuse base is never delta.
+fn plastic_is_delta(b: Bsdf) -> bool {
+    return false;
 }

@@ -1,6 +1,6 @@
 //! The specular albedo of glTF's dielectric layer (GGX, separable Smith, Schlick Fresnel with
 //! f0 = 0.04) over cos theta and roughness, from which the metallic-roughness model weights its
-//! diffuse base so the two layers share what arrives (metallic_roughness.rs says why). One table
+//! diffuse base so the two layers share what arrives (mod.rs says why). One table
 //! serves every material and every texel of a roughness texture: f0 is fixed by the
 //! specification, so the albedo depends on the cosine and the roughness alone.
 //!
@@ -8,11 +8,11 @@
 //! bilinearly; each row's cosine-weighted average 2 int E mu dmu taken exactly over that
 //! piecewise-linear interpolant, so the base's albedo is 1 - E(wo) to rounding. Computed once
 //! per process in f64 by a 64 x 64 Gauss-Legendre rule over the visible-normal sampler's unit
-//! square (as plastic_tables.rs). On the GPU a table is [`TABLE_TEXELS`] texels of the materials
+//! square (as plastic/tables.rs). On the GPU a table is [`TABLE_TEXELS`] texels of the materials
 //! view: per row 16 texels of the 64 albedos, four per texel, then the average in a texel's x.
 
-use super::ggx::{ggx_alpha, ggx_g1, ggx_sample_visible};
-use super::plastic_tables::gauss_legendre;
+use crate::bsdf::ggx::{ggx_alpha, ggx_g1, ggx_sample_visible};
+use crate::bsdf::quadrature::gauss_legendre;
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 

@@ -1,14 +1,67 @@
-//! Conductor (`shaders/lib/bsdf_conductor.wgsl`): a mirror tinted kd, microfacet-rough when
+//! Conductor (`conductor.wgsl`): a mirror tinted kd, microfacet-rough when
 //! alpha > 0, a delta mirror when alpha = 0, as Mitsuba 3's roughconductor / conductor,
 //! two-sided: with `fresnel` FRESNEL_NONE its material none (Fresnel 1) with
 //! specular_reflectance kd, with FRESNEL_CONDUCTOR kd times the Fresnel term of the complex index
 //! eta + i k. Local frame: normal +z, wo.z >= 0.
 
-use super::fresnel::fresnel_conductor;
-use super::microfacet::{microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible};
-use super::{Bsdf, Sample};
-use crate::scene::gpu_layout::FRESNEL_CONDUCTOR;
+pub mod presets;
+
+use crate::bsdf::fresnel::fresnel_conductor;
+use crate::bsdf::microfacet::{
+    Distribution, microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible,
+};
+use crate::material::bsdf::{Bsdf, Sample, in_local_frame, sample_in_local_frame};
+use crate::material::model::{Model, Space};
+use crate::material::record::{FRESNEL_CONDUCTOR, Material};
 use glam::{Vec2, Vec3};
+
+pub const KIND: u32 = 2;
+
+pub const MODEL: Model = Model {
+    name: "conductor",
+    kind: KIND,
+    space: Space::Local,
+    eval: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| eval(b, wo, wi)),
+    pdf: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| pdf(b, wo, wi)),
+    sample: |b, n, _, wo, u, _| sample_in_local_frame(n, wo, |wo| sample(b, wo, u)),
+    is_delta: |b| b.alpha == 0.0,
+    microfacet: true,
+    specular: |_| true,
+    table: None,
+};
+
+impl Material {
+    /// A conductor (Mitsuba's `conductor` / `roughconductor`): roughness `alpha` (0: smooth),
+    /// `specular_reflectance` the tint kd, and `ior` its complex index (eta, k) per RGB channel
+    /// ([`presets::conductor_preset`] has Mitsuba's named ones), or
+    /// `None` for Mitsuba's material none (Fresnel 1).
+    pub fn conductor(
+        specular_reflectance: [f32; 3],
+        alpha: f32,
+        distribution: Distribution,
+        ior: Option<(Vec3, Vec3)>,
+    ) -> Material {
+        let mut m = Material {
+            kind: KIND,
+            kd: specular_reflectance,
+            alpha,
+            distribution: distribution as u32,
+            ..Material::DEFAULT
+        };
+        if let Some((eta, k)) = ior {
+            m.eta = eta.to_array();
+            m.k = k.to_array();
+            m.fresnel = FRESNEL_CONDUCTOR;
+        }
+        m
+    }
+
+    /// Whether this is a conductor with a complex-index Fresnel term (the
+    /// `scene_has_conductor_fresnel` override).
+    pub fn uses_conductor_fresnel(&self) -> bool {
+        self.kind == KIND && self.fresnel == FRESNEL_CONDUCTOR
+    }
+}
 
 /// The reflectance at cos(wo, m) = `cos_i`: kd, times the complex-index Fresnel term when the
 /// material has one (kd alone is the tinted mirror, unchanged bit for bit).

@@ -1,15 +1,45 @@
-//! Plastic (`shaders/lib/bsdf_plastic.wgsl`): a diffuse base kd under a dielectric coat of
+//! Plastic (`plastic.wgsl`): a diffuse base kd under a dielectric coat of
 //! index ior (outside 1) tinted ks, as Mitsuba 3's plastic (smooth: no table) and roughplastic
-//! (GGX or Beckmann by `distribution`, alpha > 0, with the coat's tables: src/bsdf/plastic_tables.rs), both with nonlinear
+//! (GGX or Beckmann by `distribution`, alpha > 0, with the coat's tables: tables.rs), both with nonlinear
 //! false, two-sided. Local frame: normal +z, wo.z >= 0.
 
-use super::frame::sample_cosine;
-use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
-use super::microfacet::{microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible};
-use super::plastic_tables::PlasticTable;
-use super::{Bsdf, Sample};
+pub mod tables;
+
+use crate::bsdf::frame::sample_cosine;
+use crate::bsdf::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
+use crate::bsdf::microfacet::{
+    Distribution, microfacet_alpha, microfacet_d, microfacet_g1, microfacet_sample_visible,
+};
+use crate::material::bsdf::{Bsdf, Sample, in_local_frame, sample_in_local_frame};
+use crate::material::model::{Model, Space, Table};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
+use tables::PlasticTable;
+
+pub const KIND: u32 = 3;
+
+/// The rough coat's table is Mitsuba's per-material one; materials with equal
+/// (distribution, alpha, ior) share it.
+pub const MODEL: Model = Model {
+    name: "plastic",
+    kind: KIND,
+    space: Space::Local,
+    eval: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| eval(b, wo, wi)),
+    pdf: |b, n, _, wo, wi| in_local_frame(n, wo, wi, |wo, wi| pdf(b, wo, wi)),
+    sample: |b, n, _, wo, u, u_lobe| sample_in_local_frame(n, wo, |wo| sample(b, wo, u, u_lobe)),
+    is_delta: |_| false,
+    microfacet: true,
+    specular: |_| true,
+    table: Some(Table {
+        key: |m| (m.alpha > 0.0).then(|| [m.distribution, m.alpha.to_bits(), m.ior.to_bits()]),
+        texels: |m| {
+            let distribution = Distribution::from_u32(m.distribution);
+            PlasticTable::compute(distribution, m.alpha, m.ior)
+                .texels()
+                .to_vec()
+        },
+    }),
+};
 
 /// The probability of sampling the coat's reflection, from the fraction of light at wo the coat
 /// reflects (`f_i`: F for the smooth coat, 1 - transmittance for the rough one): Mitsuba's
