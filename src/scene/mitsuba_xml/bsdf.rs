@@ -22,7 +22,7 @@
 //! conductors take `eta`/`k` or a named `material` preset (Mitsuba's RGB values,
 //! `src/material/conductor/presets.rs`); `thindielectric` is passgraph's thin dielectric.
 
-use super::build::Builder;
+use super::builder::Builder;
 use super::params::ColorParam;
 use super::parse::{At, Plugin, Value};
 use super::textures::{TextureUse, texture};

@@ -3,43 +3,27 @@
 //! and the integrator's depth.
 
 use super::bsdf::{Back, Bsdf, bsdf};
+use super::builder::Builder;
 use super::emitters::emitter;
-use super::parse::{At, ParsedScene, Plugin, resolve_file};
+use super::parse::{ParsedScene, Plugin};
 use super::sensor::{Sensor, sensor};
 use super::serialized::load_serialized;
 use super::shapes::{self, Geometry, Triangle};
-use super::textures::load_texture;
 use crate::material::Material;
 use crate::scene::camera::MAX_COORDINATE;
 use crate::scene::description::{MAX_MAX_DEPTH, Scene, SceneOptions};
-use crate::scene::emitters::{AnalyticLight, Emitters};
-use crate::scene::environment::Environment;
+use crate::scene::emitters::Emitters;
 use crate::scene::error::SceneError;
 use crate::scene::mesh::{Mesh, MeshTriangle};
 use crate::scene::obj::load_obj_geometry;
 use crate::scene::ply::load_ply_with_attributes;
-use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
 use glam::{DMat3, DMat4, DVec2, DVec3, Vec2, Vec3};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
-/// What the loader collects while it walks the plugins.
-pub struct Builder {
-    search: Vec<PathBuf>,
-    triangles: Vec<MeshTriangle>,
-    materials: Vec<Material>,
-    material_names: Vec<String>,
-    textures: Vec<Texture>,
-    texture_index: HashMap<(PathBuf, Encoding, Filter, Wrap), u32>,
-    pub lights: Vec<AnalyticLight>,
-    pub environment: Option<Environment>,
-    warnings: Vec<String>,
-    /// Material `front` seen from behind is material `back` (`Mesh::back_materials`).
-    back_materials: BTreeMap<u32, u32>,
-    /// Shape groups by plugin (their shapes in group space, with their BSDFs).
-    groups: HashMap<*const Plugin, Vec<(Geometry, Bsdf, String)>>,
-}
+/// Shape groups by plugin (their shapes in group space, with their BSDFs).
+type Groups = HashMap<*const Plugin, Vec<(Geometry, Bsdf, String)>>;
 
 /// The loaded scene and what its sensor says about the render.
 pub struct Built {
@@ -49,43 +33,6 @@ pub struct Built {
 }
 
 impl Builder {
-    /// The image of texture `index`.
-    pub fn texture_image(&self, index: u32) -> &Texture {
-        &self.textures[index as usize]
-    }
-
-    /// A file a plugin names (see [`resolve_file`]).
-    pub fn resolve(&self, name: &str, at: &At) -> Option<PathBuf> {
-        resolve_file(&self.search, name, at)
-    }
-
-    /// The index of an image in the scene's textures, loaded once per (file, encoding,
-    /// lookup).
-    pub fn texture(
-        &mut self,
-        path: &Path,
-        encoding: Encoding,
-        filter: Filter,
-        wrap: Wrap,
-    ) -> Result<u32, String> {
-        let key = (path.to_path_buf(), encoding, filter, wrap);
-        if let Some(&i) = self.texture_index.get(&key) {
-            return Ok(i);
-        }
-        let mut t = load_texture(path, encoding)?;
-        t.filter = filter;
-        t.wrap = wrap;
-        let i = self.add_texture(t);
-        self.texture_index.insert(key, i);
-        Ok(i)
-    }
-
-    /// Adds a texture made by the loader (a checkerboard's).
-    pub fn add_texture(&mut self, t: Texture) -> u32 {
-        self.textures.push(t);
-        (self.textures.len() - 1) as u32
-    }
-
     /// The index of a material with its back face, shared with an identical one; a new front
     /// comes before its new back.
     fn material(&mut self, m: Material, back: &Back, name: String) -> u32 {
@@ -328,10 +275,15 @@ impl Builder {
         })
     }
 
-    fn shape(&mut self, plugin: &Plugin, number: usize) -> Result<(), SceneError> {
+    fn shape(
+        &mut self,
+        plugin: &Plugin,
+        number: usize,
+        groups: &mut Groups,
+    ) -> Result<(), SceneError> {
         match plugin.kind.as_str() {
-            "shapegroup" => return self.shapegroup(plugin),
-            "instance" => return self.instance(plugin),
+            "shapegroup" => return self.shapegroup(plugin, groups),
+            "instance" => return self.instance(plugin, groups),
             _ => {}
         }
         let mut warnings = Vec::new();
@@ -359,7 +311,7 @@ impl Builder {
         self.add(plugin, &geometry, index, b.to_uv)
     }
 
-    fn shapegroup(&mut self, plugin: &Plugin) -> Result<(), SceneError> {
+    fn shapegroup(&mut self, plugin: &Plugin, groups: &mut Groups) -> Result<(), SceneError> {
         let mut shapes = Vec::new();
         for c in plugin.children_of("shape") {
             let s = &c.plugin;
@@ -381,11 +333,11 @@ impl Builder {
             ));
         }
         plugin.finish()?;
-        self.groups.insert(plugin as *const Plugin, shapes);
+        groups.insert(plugin as *const Plugin, shapes);
         Ok(())
     }
 
-    fn instance(&mut self, plugin: &Plugin) -> Result<(), SceneError> {
+    fn instance(&mut self, plugin: &Plugin, groups: &Groups) -> Result<(), SceneError> {
         let group = plugin
             .child_of("shape")?
             .filter(|c| c.plugin.kind == "shapegroup")
@@ -395,10 +347,10 @@ impl Builder {
             .map_or(DMat4::IDENTITY, |(m, _)| m);
         plugin.finish()?;
         let key = Rc::as_ptr(&group.plugin);
-        let shapes =
-            self.groups.get(&key).cloned().ok_or_else(|| {
-                plugin.error("the shapegroup must be declared before its instances")
-            })?;
+        let shapes = groups
+            .get(&key)
+            .cloned()
+            .ok_or_else(|| plugin.error("the shapegroup must be declared before its instances"))?;
         for (g, b, name) in shapes {
             let index = self.material(b.material, &b.back, name);
             // Mitsuba's instance moves the group's shapes as they are (meshes and analytic
@@ -492,19 +444,7 @@ pub fn build(
     options: &SceneOptions,
 ) -> Result<Built, SceneError> {
     let root = &parsed.root;
-    let mut b = Builder {
-        search: parsed.search.clone(),
-        triangles: Vec::new(),
-        materials: Vec::new(),
-        material_names: Vec::new(),
-        textures: Vec::new(),
-        texture_index: HashMap::new(),
-        lights: Vec::new(),
-        environment: None,
-        warnings: Vec::new(),
-        back_materials: BTreeMap::new(),
-        groups: HashMap::new(),
-    };
+    let mut b = Builder::new(parsed.search.clone());
     // Without an integrator, Mitsuba's default: path, unbounded, Russian roulette from 5.
     let (max_depth, rr_depth) = match root.child_of("integrator")? {
         Some(c) => integrator(&c.plugin, options)?,
@@ -532,10 +472,11 @@ pub fn build(
     for c in root.children_of("emitter") {
         emitter(&mut b, &c.plugin)?;
     }
+    let mut groups = Groups::new();
     let mut number = 0;
     for c in root.children_of("shape") {
         number += 1;
-        b.shape(&c.plugin, number)?;
+        b.shape(&c.plugin, number, &mut groups)?;
     }
     // BSDFs and textures declared at the top level are used through their ids (a <ref>).
     for class in ["bsdf", "texture"] {

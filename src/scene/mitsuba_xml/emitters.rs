@@ -2,7 +2,7 @@
 //! lights), `constant` and `envmap` (its environment). Area emitters are read with their shape
 //! (build.rs) as the emission of its triangles' material.
 
-use super::build::Builder;
+use super::builder::Builder;
 use super::parse::Plugin;
 use crate::scene::emitters::AnalyticLight;
 use crate::scene::environment::{Environment, EnvironmentMap};

@@ -7,10 +7,12 @@
 //! - transform.rs, spectrum.rs (+ cie.rs): values as Mitsuba computes them;
 //! - shapes.rs, serialized.rs: geometry; bsdf.rs, textures.rs: materials;
 //! - emitters.rs, sensor.rs: lights, environment, camera, film;
-//! - build.rs: the tree as passgraph's [`Scene`].
+//! - builder.rs: what the readers add to (triangles, materials, textures, lights);
+//! - build.rs: the walk over the tree, and passgraph's [`Scene`] of it.
 
 mod bsdf;
 mod build;
+mod builder;
 mod cie;
 mod emitters;
 mod params;

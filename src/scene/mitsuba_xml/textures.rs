@@ -4,7 +4,7 @@
 //! that use it (an affine map of the corners is exact, as the coordinates interpolate
 //! linearly), so the textures of one material must share one `to_uv`.
 
-use super::build::Builder;
+use super::builder::Builder;
 use super::parse::{At, Plugin};
 use crate::scene::error::SceneError;
 use crate::scene::texture::{Encoding, Filter, Texture, Wrap};
@@ -127,13 +127,5 @@ fn checkerboard(builder: &mut Builder, plugin: &Rc<Plugin>) -> Result<TextureUse
         index: builder.add_texture(texture),
         to_uv,
         default_lookup: false,
-    })
-}
-
-/// Loads an image once per (file, encoding).
-pub fn load_texture(path: &std::path::Path, encoding: Encoding) -> Result<Texture, String> {
-    Texture::load(path, encoding).map_err(|message| match message.find(" (os error") {
-        Some(at) => message[..at].to_string(),
-        None => message,
     })
 }
