@@ -8,7 +8,7 @@ use crate::graph::param::ParamType;
 use crate::graph::provided::{ProvidedKind, ProvidedSet};
 use crate::render::tile_order::tile_row_stride;
 use crate::render::tiling::Tile;
-use crate::scene::gpu::{Frame, GpuCamera};
+use crate::scene::gpu_layout::{Frame, GpuCamera};
 use crate::scene::{Scene, SceneGpu};
 use bytemuck::Zeroable;
 use std::sync::OnceLock;

@@ -16,7 +16,7 @@ use crate::graph::error::GraphError;
 use crate::graph::load::LoadedGraph;
 use crate::graph::plan::Plan;
 use crate::graph::set_param::set_param;
-use crate::scene::gpu::{Frame, GpuCamera};
+use crate::scene::gpu_layout::{Frame, GpuCamera};
 use crate::scene::{CameraDesc, Scene, SceneError, SceneGpu, SceneOptions, load_scene_with};
 use bytemuck::Zeroable;
 use std::path::PathBuf;

@@ -6,7 +6,7 @@ use super::bvh::{Bvh, BvhStats};
 use super::bvh_grid::BvhGrid;
 use super::bvh_octants::{copy_of, octant_copies};
 use super::description::Scene;
-pub use super::gpu_layout::*;
+use super::gpu_layout::*;
 use super::hull::hull_faces_with;
 use super::intersect::{self, Hit, Ray};
 use super::lights::LIGHT_AREA;

@@ -40,9 +40,10 @@ pub use file::{
     is_mitsuba_xml, load_scene, load_scene_with,
 };
 pub use filter::PixelFilter;
-pub use gpu::{
+pub use gpu::SceneGpu;
+pub use gpu_layout::{
     BvhNode, Frame, GpuBvhGrid, GpuCamera, NO_LIGHT, PackedBvhNode, SHADING_HAS_NORMALS,
-    SHADING_HAS_UVS, SceneGpu, Triangle, TriangleShading,
+    SHADING_HAS_UVS, Triangle, TriangleShading,
 };
 // The materials a scene holds (src/material), as the loaders and tests name them.
 pub use crate::bsdf::microfacet::Distribution;

@@ -37,6 +37,31 @@ pub enum SampleKind {
 }
 
 impl TextureFormat {
+    /// Every format a shader can bind as a storage texture (all but the depth format), the
+    /// ones reflection finds by WGSL name.
+    pub const STORAGE: [TextureFormat; 17] = {
+        use TextureFormat::*;
+        [
+            Rgba8Unorm,
+            Rgba8Snorm,
+            Rgba8Uint,
+            Rgba8Sint,
+            Bgra8Unorm,
+            Rgba16Uint,
+            Rgba16Sint,
+            Rgba16Float,
+            R32Uint,
+            R32Sint,
+            R32Float,
+            Rg32Uint,
+            Rg32Sint,
+            Rg32Float,
+            Rgba32Uint,
+            Rgba32Sint,
+            Rgba32Float,
+        ]
+    };
+
     pub fn bytes_per_texel(self) -> u64 {
         use TextureFormat::*;
         match self {
@@ -125,5 +150,30 @@ impl fmt::Display for TextureDim {
             TextureDim::D2 => "2d",
             TextureDim::D2Array => "2d_array",
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fails when a format is added to the enum but not to `STORAGE` (reflection would not
+    /// find it by its WGSL name): the match below stops compiling until the new one is placed.
+    #[test]
+    fn storage_holds_every_format_but_depth_once() {
+        use TextureFormat::*;
+        let is_storage = |f: TextureFormat| match f {
+            Depth32Float => false,
+            Rgba8Unorm | Rgba8Snorm | Rgba8Uint | Rgba8Sint | Bgra8Unorm | Rgba16Uint
+            | Rgba16Sint | Rgba16Float | R32Uint | R32Sint | R32Float | Rg32Uint | Rg32Sint
+            | Rg32Float | Rgba32Uint | Rgba32Sint | Rgba32Float => true,
+        };
+        let mut listed = TextureFormat::STORAGE.to_vec();
+        assert!(listed.iter().all(|&f| is_storage(f)));
+        listed.sort();
+        listed.dedup();
+        assert_eq!(listed.len(), TextureFormat::STORAGE.len());
+        // 17 storage formats in the match above, each listed once.
+        assert_eq!(listed.len(), 17);
     }
 }

@@ -2,30 +2,6 @@
 
 use super::*;
 
-/// Every storage format a graph resource can have, found by WGSL name.
-pub(super) const SUPPORTED_FORMATS: [TextureFormat; 17] = {
-    use TextureFormat::*;
-    [
-        Rgba8Unorm,
-        Rgba8Snorm,
-        Rgba8Uint,
-        Rgba8Sint,
-        Bgra8Unorm,
-        Rgba16Uint,
-        Rgba16Sint,
-        Rgba16Float,
-        R32Uint,
-        R32Sint,
-        R32Float,
-        Rg32Uint,
-        Rg32Sint,
-        Rg32Float,
-        Rgba32Uint,
-        Rgba32Sint,
-        Rgba32Float,
-    ]
-};
-
 /// Address spaces whose variables are bound by the pipeline rather than owned by the shader.
 pub(super) fn is_resource(space: AddressSpace) -> bool {
     matches!(
@@ -163,12 +139,14 @@ pub(super) fn texture_kind(
         }),
         ImageClass::Storage { format, access } => {
             let wgsl = format.to_wgsl();
-            let format = SUPPORTED_FORMATS
+            let format = TextureFormat::STORAGE
                 .into_iter()
                 .find(|f| f.wgsl_name() == wgsl)
                 .ok_or_else(|| {
-                    let supported: Vec<_> =
-                        SUPPORTED_FORMATS.iter().map(|f| f.wgsl_name()).collect();
+                    let supported: Vec<_> = TextureFormat::STORAGE
+                        .iter()
+                        .map(|f| f.wgsl_name())
+                        .collect();
                     format!(
                         "storage texture format {wgsl} is not supported (supported: {})",
                         supported.join(", ")

@@ -157,7 +157,7 @@ fn storage_texture_access_format_and_dim() {
 
 #[test]
 fn every_supported_storage_format_maps_to_the_same_texture_format() {
-    for format in SUPPORTED_FORMATS {
+    for format in TextureFormat::STORAGE {
         let kind = single_binding(&format!(
             "@group(0) @binding(0) var t: texture_storage_2d<{}, write>;
              @compute @workgroup_size(1) fn main() {{ _ = textureDimensions(t); }}",
