@@ -2,7 +2,8 @@
 //! triangles (no hull test, no device), then the median and spread of the rounds' build times,
 //! the build rate, the node count and the tree's SAH cost (the expected node visits and
 //! triangle tests of a ray through the root box, in units of one triangle test, with the build's
-//! own node cost; a ray-independent quality figure beside `traversal_stats`' counts).
+//! own node cost; a ray-independent quality figure beside `traversal_stats`' counts), and a
+//! fingerprint of the tree (a builder change meant to keep the tree must keep it).
 //!
 //! `cargo run --release --example bvh_build -- [--rounds N] [--threads T] SCENE`
 //! (default 5 rounds, rayon's default thread count)
@@ -59,7 +60,7 @@ fn main() {
     let median = ms[ms.len() / 2];
     println!(
         "{} triangles, {} threads: build {:.1} ms median ({:.1}-{:.1}), {:.2} M triangles/s; \
-         {} nodes ({:.2} per triangle), depth {}; SAH cost {:.2}",
+         {} nodes ({:.2} per triangle), depth {}; SAH cost {:.2}; tree {:016x}",
         triangles.len(),
         pool.current_num_threads(),
         median,
@@ -70,5 +71,18 @@ fn main() {
         bvh.stats.node_count as f64 / triangles.len() as f64,
         bvh.stats.max_depth,
         passgraph::scene::bvh::sah_cost(&bvh),
+        fingerprint(&bvh),
     );
+}
+
+/// FNV-1a over the nodes' bytes and the triangle order: equal for two builds of one mesh
+/// exactly when they made the same tree, so a change to the builder that should not change the
+/// tree can be checked on any scene.
+fn fingerprint(bvh: &Bvh) -> u64 {
+    let bytes = bytemuck::cast_slice::<_, u8>(&bvh.nodes)
+        .iter()
+        .chain(bytemuck::cast_slice::<_, u8>(&bvh.order));
+    bytes.fold(0xcbf29ce484222325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100000001b3)
+    })
 }
