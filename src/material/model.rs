@@ -54,8 +54,8 @@ pub struct Model {
     /// Whether its rough lobes follow `Material::distribution` (so a Beckmann one keeps the
     /// Beckmann code in the shaders).
     pub microfacet: bool,
-    /// Whether the material has a lobe other than Lambert's (path reuse shares only those
-    /// without).
+    /// Whether the material has a lobe other than Lambert's (the `scene_has_specular`
+    /// override: a scene without one keeps only the diffuse code paths).
     pub specular: fn(&Material) -> bool,
     pub table: Option<Table>,
 }

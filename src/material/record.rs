@@ -21,9 +21,10 @@ pub const FRESNEL_NONE: u32 = 0;
 /// `Material::fresnel`: the conductor's Fresnel term is that of the complex index eta + i k.
 pub const FRESNEL_CONDUCTOR: u32 = 1;
 
-/// A material: its model (`kind`, one of the `MATERIAL_*` constants) and the model's
-/// parameters, as `shaders/lib/scene.wgsl`'s `Material` (8 texels). Which MTL keys give which
-/// kind: `obj.rs`. `ke` is emitted radiance (front face only) whatever the kind.
+/// A material: its model (`kind`, one of the `MATERIAL_*` constants: a model of
+/// `super::registry::MODELS`, whose folder states its maths) and the model's parameters, as
+/// `shaders/lib/scene.wgsl`'s `Material` (8 texels). Which MTL keys give which kind:
+/// src/scene/obj.rs. `ke` is emitted radiance (front face only) whatever the kind.
 ///
 /// - Lambert: f = kd / pi.
 /// - Phong (the seed's normalised Blinn-Phong): f = kd/pi + ks (ns + 8)/(8 pi) max(0, n.h)^ns.
