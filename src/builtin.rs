@@ -11,8 +11,6 @@ static GRAPHS: Dir = include_dir!("$CARGO_MANIFEST_DIR/graphs");
 static PASSES: Dir = include_dir!("$CARGO_MANIFEST_DIR/passes");
 static SHADERS: Dir = include_dir!("$CARGO_MANIFEST_DIR/shaders");
 static CORNELL: Dir = include_dir!("$CARGO_MANIFEST_DIR/scenes/cornell");
-/// The material models' folders: the shaders include each model's WGSL from there.
-static MATERIALS: Dir = include_dir!("$CARGO_MANIFEST_DIR/src/material");
 
 /// The default graph and scene, relative to the project's root (or to the extracted copy).
 pub const GRAPH: &str = "graphs/pathtracer.ron";
@@ -40,8 +38,7 @@ pub fn in_build_tree() -> bool {
     exe.is_ok_and(|e| e.starts_with(&tree)) && build_tree_graph().is_file()
 }
 
-/// Writes the built-in files under `dir`: `graphs/`, `passes/`, `shaders/`, `scenes/cornell/`,
-/// and the material models' WGSL (`src/material/*/*.wgsl`).
+/// Writes the built-in files under `dir`: `graphs/`, `passes/`, `shaders/`, `scenes/cornell/`.
 pub fn extract(dir: &Path) -> std::io::Result<()> {
     for (sub, files) in [
         ("graphs", &GRAPHS),
@@ -52,23 +49,6 @@ pub fn extract(dir: &Path) -> std::io::Result<()> {
         let to = dir.join(sub);
         std::fs::create_dir_all(&to)?;
         files.extract(&to)?;
-    }
-    extract_wgsl(&MATERIALS, &dir.join("src/material"))?;
-    Ok(())
-}
-
-/// Writes the `.wgsl` files of `files` (the Rust sources beside them stay in the binary).
-fn extract_wgsl(files: &Dir, to: &Path) -> std::io::Result<()> {
-    for entry in files.entries() {
-        if let Some(sub) = entry.as_dir() {
-            extract_wgsl(sub, to)?;
-        } else if let Some(file) = entry.as_file()
-            && file.path().extension().is_some_and(|e| e == "wgsl")
-        {
-            let path = to.join(file.path());
-            std::fs::create_dir_all(path.parent().unwrap_or(to))?;
-            std::fs::write(path, file.contents())?;
-        }
     }
     Ok(())
 }
@@ -86,7 +66,6 @@ mod tests {
             SCENE,
             "scenes/cornell/cornell.obj",
             "shaders/lib/bvh.wgsl",
-            "src/material/plastic/plastic.wgsl",
         ] {
             assert_eq!(
                 std::fs::read(dir.path().join(rel)).unwrap(),
@@ -94,7 +73,6 @@ mod tests {
                 "{rel}"
             );
         }
-        assert!(!dir.path().join("src/material/plastic/mod.rs").exists());
         crate::compile_file(&dir.path().join(GRAPH), [32, 32]).unwrap();
         crate::scene::load_scene(&dir.path().join(SCENE)).unwrap();
     }

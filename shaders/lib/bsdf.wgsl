@@ -1,6 +1,6 @@
 // The BSDF library: one material's scattering at a shading point, dispatched on its kind by
 // bsdf_eval, bsdf_pdf, bsdf_sample and bsdf_is_delta (material_models.wgsl, generated from the
-// material registry: each model's WGSL lies in its folder, src/material/NAME/NAME.wgsl). Each
+// material registry, src/material/registry.rs: each model's WGSL is lib/material/NAME.wgsl). Each
 // kind's code sits behind scene_has_kind, so a scene's shaders hold only its models.
 //
 // The including shader includes lib/scene.wgsl and lib/sampling.wgsl first and declares the

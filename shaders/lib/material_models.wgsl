@@ -1,16 +1,17 @@
 // Generated from the material registry (src/material/registry.rs) by src/material/wgsl.rs:
 // do not edit. `cargo test --lib material::wgsl` rewrites it when the registry changes.
 
-// Each model's functions (src/material/model.rs lists them) and the dispatch on a
-// material's kind; lib/bsdf.wgsl includes this file and states the conventions.
+// Each model's functions (lib/material/NAME.wgsl: src/material/model.rs lists them) and
+// the dispatch on a material's kind; lib/bsdf.wgsl includes this file and states the
+// conventions.
 
-#include "../../src/material/lambert/lambert.wgsl"
-#include "../../src/material/phong/phong.wgsl"
-#include "../../src/material/conductor/conductor.wgsl"
-#include "../../src/material/plastic/plastic.wgsl"
-#include "../../src/material/dielectric/dielectric.wgsl"
-#include "../../src/material/thin_dielectric/thin_dielectric.wgsl"
-#include "../../src/material/metallic_roughness/metallic_roughness.wgsl"
+#include "material/lambert.wgsl"
+#include "material/phong.wgsl"
+#include "material/conductor.wgsl"
+#include "material/plastic.wgsl"
+#include "material/dielectric.wgsl"
+#include "material/thin_dielectric.wgsl"
+#include "material/metallic_roughness.wgsl"
 
 fn bsdf_eval(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     if scene_has_kind(MATERIAL_LAMBERT) && b.kind == MATERIAL_LAMBERT {

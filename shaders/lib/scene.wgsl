@@ -41,7 +41,7 @@ override scene_environment: u32 = 0xffffffffu;
 // Whether a used material has a normal or bump map (lib/surface_map.wgsl).
 override scene_has_surface_maps: bool = true;
 // Whether a used material's rough lobe has Beckmann microfacets (lib/microfacet.wgsl), and
-// whether a used conductor has a complex-index Fresnel term (src/material/conductor/conductor.wgsl): without
+// whether a used conductor has a complex-index Fresnel term (lib/material/conductor.wgsl): without
 // them a material's last two texels are not read and their code is specialised away.
 override scene_has_beckmann: bool = true;
 override scene_has_conductor_fresnel: bool = true;

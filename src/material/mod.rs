@@ -1,8 +1,9 @@
 //! Material models in the manner of Mitsuba's plugins: one folder per model holding its CPU
-//! twin, the constructor loaders use, its table and its WGSL (`NAME/NAME.wgsl`), described by
-//! a [`Model`] (model.rs) and listed in registry.rs. The shaders' kind constants and BSDF
-//! dispatch are generated from that list (wgsl.rs), so adding a model touches its folder and
-//! the registry. Below them: the record every model shares (record.rs), the shading-point view
+//! twin, the constructor loaders use and its table, described by a [`Model`] (model.rs) and
+//! listed in registry.rs; its WGSL is `shaders/lib/material/NAME.wgsl`, with the other shaders
+//! (the tree a graph's includes resolve in stays whole). The shaders' kind constants and BSDF
+//! dispatch are generated from the list (wgsl.rs), so adding a model touches its folder, its
+//! WGSL file and the registry. Below them: the record every model shares (record.rs), the shading-point view
 //! (bsdf.rs), the CPU dispatch (dispatch.rs) and the packing of records and tables
 //! (tables.rs). The microfacet, Fresnel and frame maths the models share is `crate::bsdf`.
 

@@ -3,7 +3,8 @@
 //! file; src/material/registry.rs lists them, and the WGSL dispatch is generated from that list
 //! (src/material/wgsl.rs).
 //!
-//! A model named `NAME` keeps its WGSL in `src/material/NAME/NAME.wgsl`, defining, with `b: Bsdf`
+//! A model named `NAME` keeps its WGSL in `shaders/lib/material/NAME.wgsl` (with the shaders,
+//! so that the shader tree a graph resolves its includes in is whole), defining, with `b: Bsdf`
 //! and `outside: bool` (wo on the front side):
 //!
 //! - in [`Space::World`]: `NAME_eval(b, n, outside, wo, wi) -> vec3<f32>`,

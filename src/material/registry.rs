@@ -1,5 +1,6 @@
 //! The material models, in `Material::kind` order: adding a model is a folder beside this file
-//! (src/material/model.rs says what it holds) and a line here. The kinds' WGSL constants and the
+//! and its WGSL in shaders/lib/material/ (src/material/model.rs says what they hold), and a
+//! line here. The kinds' WGSL constants and the
 //! shaders' dispatch are generated from this list (src/material/wgsl.rs).
 
 use super::model::Model;

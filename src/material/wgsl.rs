@@ -33,7 +33,7 @@ pub fn kinds_wgsl(models: &[Model]) -> String {
 
 /// The path, relative to `shaders/lib/`, of a model's WGSL.
 fn model_include(m: &Model) -> String {
-    format!("../../src/material/{0}/{0}.wgsl", m.name)
+    format!("material/{}.wgsl", m.name)
 }
 
 /// `material_models.wgsl`'s text: World models first, then the shading frame built once for
@@ -47,8 +47,9 @@ pub fn models_wgsl(models: &[Model]) -> String {
     };
     let mut s = String::from(HEADER);
     s.push_str(
-        "\n// Each model's functions (src/material/model.rs lists them) and the dispatch on a\n\
-         // material's kind; lib/bsdf.wgsl includes this file and states the conventions.\n\n",
+        "\n// Each model's functions (lib/material/NAME.wgsl: src/material/model.rs lists them) and\n\
+         // the dispatch on a material's kind; lib/bsdf.wgsl includes this file and states the\n\
+         // conventions.\n\n",
     );
     for m in models {
         writeln!(s, "#include \"{}\"", model_include(m)).unwrap();

@@ -1,4 +1,4 @@
-//! Conductor (`conductor.wgsl`): a mirror tinted kd, microfacet-rough when
+//! Conductor (`shaders/lib/material/conductor.wgsl`): a mirror tinted kd, microfacet-rough when
 //! alpha > 0, a delta mirror when alpha = 0, as Mitsuba 3's roughconductor / conductor,
 //! two-sided: with `fresnel` FRESNEL_NONE its material none (Fresnel 1) with
 //! specular_reflectance kd, with FRESNEL_CONDUCTOR kd times the Fresnel term of the complex index

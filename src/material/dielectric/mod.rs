@@ -1,4 +1,4 @@
-//! Dielectric (`dielectric.wgsl`): a one-sided interface between outside
+//! Dielectric (`shaders/lib/material/dielectric.wgsl`): a one-sided interface between outside
 //! (index 1, where the geometric normal points) and inside (index ior), reflection untinted,
 //! transmission tinted tf, in radiance transport (transmitted radiance scaled by eta_ti^2);
 //! microfacet-rough (GGX or Beckmann, `distribution`) when alpha > 0 as Mitsuba 3's roughdielectric, a delta interface when alpha = 0 as

@@ -1,4 +1,4 @@
-//! Lambert (`lambert.wgsl`): f = kd / pi, two-sided (Mitsuba 3's twosided + diffuse), and the
+//! Lambert (`shaders/lib/material/lambert.wgsl`): f = kd / pi, two-sided (Mitsuba 3's twosided + diffuse), and the
 //! default material. World space; n faces wo.
 
 use crate::bsdf::frame::sample_cosine;

@@ -1,4 +1,4 @@
-//! glTF 2.0's metallic-roughness material (`metallic_roughness.wgsl`), the BRDF
+//! glTF 2.0's metallic-roughness material (`shaders/lib/material/metallic_roughness.wgsl`), the BRDF
 //! of the specification's Appendix B: a mix by `metallic` of a metal (GGX specular, Schlick
 //! Fresnel with f0 = base colour) and a dielectric (the same GGX specular layer with f0 = 0.04
 //! over a Lambertian base of the base colour, weighted by what the layer lets through):

@@ -1,4 +1,4 @@
-//! The seed's normalised Blinn-Phong (`phong.wgsl`), f = kd / pi + ks (ns + 8) / (8 pi)
+//! The seed's normalised Blinn-Phong (`shaders/lib/material/phong.wgsl`), f = kd / pi + ks (ns + 8) / (8 pi)
 //! max(0, n.h)^ns, sampled by the cosine. No Mitsuba twin.
 
 use crate::bsdf::frame::sample_cosine;

@@ -1,4 +1,4 @@
-//! Plastic (`plastic.wgsl`): a diffuse base kd under a dielectric coat of
+//! Plastic (`shaders/lib/material/plastic.wgsl`): a diffuse base kd under a dielectric coat of
 //! index ior (outside 1) tinted ks, as Mitsuba 3's plastic (smooth: no table) and roughplastic
 //! (GGX or Beckmann by `distribution`, alpha > 0, with the coat's tables: tables.rs), both with nonlinear
 //! false, two-sided. Local frame: normal +z, wo.z >= 0.

@@ -1,4 +1,4 @@
-//! Thin dielectric (`thin_dielectric.wgsl`): a sheet of index ior (outside 1)
+//! Thin dielectric (`shaders/lib/material/thin_dielectric.wgsl`): a sheet of index ior (outside 1)
 //! too thin to see its two faces apart, as Mitsuba 3's thindielectric: light reflects with the
 //! interreflected reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) (R the Fresnel term at
 //! the sheet's cosine, T = 1 - R) or passes straight through with 1 - R' tinted tf, without

@@ -1,5 +1,5 @@
 // Thin dielectric: a sheet of index ior (outside 1) too thin to see its two faces apart, as
-// Mitsuba 3's thindielectric (mod.rs): light reflects with the
+// Mitsuba 3's thindielectric (src/material/thin_dielectric/): light reflects with the
 // interreflected reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) or passes straight
 // through with 1 - R' tinted tf, without refraction. Both lobes are delta and two-sided (eval
 // and pdf are 0). Local frame: normal +z on wo's side.

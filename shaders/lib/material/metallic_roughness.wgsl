@@ -1,9 +1,9 @@
 // glTF 2.0's metallic-roughness material, the BRDF of the specification's Appendix B (the CPU
-// twin, mod.rs, states the formula): a mix by metallic (b.ks.x) of a
+// twin, src/material/metallic_roughness/, states the formula): a mix by metallic (b.ks.x) of a
 // metal (GGX specular, Schlick Fresnel with f0 = the base colour b.kd) and a dielectric (the
 // same specular layer with f0 = 0.04 over a Lambertian base that gets what the layer does not
 // reflect: (1 - E(wo.z)) (1 - E(wi.z)) / (1 - E_avg), E the layer's albedo from the table at
-// b.table in `materials` (table.rs; the twin says why this differs
+// b.table in `materials` (src/material/metallic_roughness/table.rs; the twin says why this differs
 // from the specification's 1 - F(v.h)).
 // alpha = roughness^2; 0 makes the specular layer a delta mirror. Two-sided. Local frame:
 // normal +z, wo.z >= 0.

@@ -6,7 +6,7 @@
 //
 // Requires the global `materials`, the scene.materials texel view (texture_storage_2d
 // rgba32uint, read): the rough coat's tables live there after the materials, 17 texels from
-// b.table (tables.rs): the coat's external transmittance at cos theta = i / 63,
+// b.table (src/material/plastic/tables.rs): the coat's external transmittance at cos theta = i / 63,
 // i = 0..63, four per texel, then the internal reflectance in the 17th texel's x.
 
 // The probability of sampling the coat's reflection rather than the base, from the fraction of
