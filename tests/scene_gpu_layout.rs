@@ -5,6 +5,7 @@
 mod common;
 
 use common::root;
+use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::{
     Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, Triangle, TriangleShading,
 };
@@ -24,9 +25,10 @@ macro_rules! fields {
 
 #[test]
 fn gpu_structs_match_scene_wgsl_byte_for_byte() {
+    // With its include (the material kinds, generated from the registry) resolved.
     let path = root().join("shaders/lib/scene.wgsl");
-    let code = std::fs::read_to_string(&path).unwrap();
-    let module = naga::front::wgsl::parse_str(&code).expect("scene.wgsl parses");
+    let source = ShaderSource::load(&path, &root().join("shaders")).expect("includes resolve");
+    let module = naga::front::wgsl::parse_str(&source.code).expect("scene.wgsl parses");
 
     let rust = [
         (
