@@ -1,7 +1,8 @@
 //! The scene as the GPU sees it: `#[repr(C)]` mirrors of `shaders/lib/scene.wgsl`, byte for byte,
-//! and the constants both sides share. Nothing here knows how a scene is built
-//! (src/scene/gpu.rs builds `SceneGpu` from these), so the loaders, the
-//! BVH and the BSDF twins can use the records without importing the builder.
+//! and the constants both sides share; the material record is the material module's
+//! (src/material/record.rs). Nothing here knows how a scene is built (src/scene/gpu.rs builds
+//! `SceneGpu` from these), so the loaders and the BVH can use the records without importing
+//! the builder.
 
 use crate::material::{Material, NO_TEXTURE};
 use bytemuck::{Pod, Zeroable};
