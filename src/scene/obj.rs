@@ -69,13 +69,34 @@ struct CheckedObj {
     normals: Vec<Vec3>,
     /// Every face of three or more corners, in file order: what tobj's triangles come from.
     faces: Vec<FaceCorners>,
+    /// The faces' corners, one after the other (a face's are `corners[face.corners]`).
+    corners: Vec<Corner>,
     warnings: Vec<String>,
 }
 
-/// A face's line and, per corner, its `vt` and `vn` indices (0-based) where given.
+/// A face's line and where its corners are in [`CheckedObj::corners`]. (One list for all
+/// faces rather than one per face: a million faces were a million allocations.)
 struct FaceCorners {
     line: usize,
-    corners: Vec<(Option<usize>, Option<usize>)>,
+    corners: std::ops::Range<usize>,
+}
+
+/// A face corner's `vt` and `vn` indices (0-based) where given.
+type Corner = (Option<usize>, Option<usize>);
+
+/// Up to `N` whitespace-separated words of `text` and how many it has in all (which may be
+/// more than `N`): the lines' checks need a few words each, and collecting them into a vector
+/// allocated once per line.
+fn words<const N: usize>(text: &str) -> ([&str; N], usize) {
+    let mut words = [""; N];
+    let mut count = 0;
+    for word in text.split_whitespace() {
+        if let Some(slot) = words.get_mut(count) {
+            *slot = word;
+        }
+        count += 1;
+    }
+    (words, count)
 }
 
 /// The images the materials use, each decoded once per encoding.
@@ -153,6 +174,7 @@ fn check_obj(path: &Path, text: &str, materials: bool) -> Result<CheckedObj, Sce
     let mut texcoords = Vec::new();
     let mut normals = Vec::new();
     let mut faces = Vec::new();
+    let mut corners = Vec::new();
     let mut warnings = Vec::new();
 
     for (index, line) in text.lines().enumerate() {
@@ -163,37 +185,44 @@ fn check_obj(path: &Path, text: &str, materials: bool) -> Result<CheckedObj, Sce
         };
         match keyword {
             "v" => {
-                check_vertex(path, number, rest)?;
+                let (words, count) = check_vertex(path, number, rest)?;
                 vertex_count += 1;
                 // Drop vertex colours; keep x y z and an optional w, which tobj divides by.
-                let words: Vec<&str> = rest.split_whitespace().collect();
-                let kept = if words.len() == 4 { 4 } else { 3 };
-                normalized.push_str("v ");
-                normalized.push_str(&words[..kept].join(" "));
+                let kept = if count == 4 { 4 } else { 3 };
+                normalized.push('v');
+                for word in &words[..kept] {
+                    normalized.push(' ');
+                    normalized.push_str(word);
+                }
             }
             "vt" => {
-                let numbers = check_numbers(path, number, keyword, rest, 1..=3)?;
                 // v defaults to 0; w is unused.
-                texcoords.push(Vec2::new(
-                    numbers[0],
-                    numbers.get(1).copied().unwrap_or(0.0),
-                ));
+                let [u, v, _] = check_numbers(path, number, keyword, rest, 1..=3)?;
+                texcoords.push(Vec2::new(u, v));
             }
             "vn" => {
-                let numbers = check_numbers(path, number, keyword, rest, 3..=3)?;
-                normals.push(Vec3::new(numbers[0], numbers[1], numbers[2]));
+                normals.push(Vec3::from(check_numbers(
+                    path,
+                    number,
+                    keyword,
+                    rest,
+                    3..=3,
+                )?));
             }
             "f" => {
                 let counts = [vertex_count, texcoords.len(), normals.len()];
-                let (indices, corners) = check_face(path, number, rest, counts)?;
+                let (start, written) = (corners.len(), normalized.len());
+                normalized.push('f');
+                check_face(path, number, rest, counts, &mut normalized, &mut corners)?;
                 // Points and lines are not surfaces; tobj is told to ignore them anyway.
-                if indices.len() >= 3 {
-                    normalized.push_str("f ");
-                    normalized.push_str(&indices.join(" "));
+                if corners.len() - start >= 3 {
                     faces.push(FaceCorners {
                         line: number,
-                        corners,
+                        corners: start..corners.len(),
                     });
+                } else {
+                    corners.truncate(start);
+                    normalized.truncate(written);
                 }
             }
             "o" | "g" => {
@@ -262,20 +291,22 @@ fn check_obj(path: &Path, text: &str, materials: bool) -> Result<CheckedObj, Sce
         texcoords,
         normals,
         faces,
+        corners,
         warnings,
     })
 }
 
-/// A line's numbers after its keyword: a count in `counts`, each finite.
+/// A line's numbers after its keyword: a count in `counts` (at most 3), each finite; those not
+/// given are 0.
 fn check_numbers(
     path: &Path,
     line: usize,
     keyword: &str,
     rest: &str,
     counts: std::ops::RangeInclusive<usize>,
-) -> Result<Vec<f32>, SceneError> {
-    let words: Vec<&str> = rest.split_whitespace().collect();
-    if !counts.contains(&words.len()) {
+) -> Result<[f32; 3], SceneError> {
+    let (words, count) = words::<3>(rest);
+    if !counts.contains(&count) {
         let expected = if counts.start() == counts.end() {
             format!("{}", counts.start())
         } else {
@@ -284,42 +315,47 @@ fn check_numbers(
         return Err(syntax(
             path,
             line,
-            format!("{keyword} needs {expected} numbers; found {}", words.len()),
+            format!("{keyword} needs {expected} numbers; found {count}"),
         ));
     }
-    words
-        .iter()
-        .map(|word| match word.parse::<f32>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(syntax(
-                path,
-                line,
-                format!("{keyword}: '{word}' is not a finite number"),
-            )),
-        })
-        .collect()
+    let mut numbers = [0.0; 3];
+    for (number, word) in numbers.iter_mut().zip(&words[..count]) {
+        *number = match word.parse::<f32>() {
+            Ok(v) if v.is_finite() => v,
+            _ => {
+                return Err(syntax(
+                    path,
+                    line,
+                    format!("{keyword}: '{word}' is not a finite number"),
+                ));
+            }
+        };
+    }
+    Ok(numbers)
 }
 
 /// `v x y z [w | r g b]`: numbers, w nonzero, and a finite position after dividing by w.
-fn check_vertex(path: &Path, line: usize, rest: &str) -> Result<(), SceneError> {
-    let words: Vec<&str> = rest.split_whitespace().collect();
-    if !matches!(words.len(), 3 | 4 | 6) {
+/// Returns the words and their count.
+fn check_vertex<'a>(
+    path: &Path,
+    line: usize,
+    rest: &'a str,
+) -> Result<([&'a str; 6], usize), SceneError> {
+    let (words, count) = words::<6>(rest);
+    if !matches!(count, 3 | 4 | 6) {
         return Err(syntax(
             path,
             line,
-            format!(
-                "a vertex needs x y z, optionally w or r g b; found {} numbers",
-                words.len()
-            ),
+            format!("a vertex needs x y z, optionally w or r g b; found {count} numbers"),
         ));
     }
-    let mut numbers = Vec::with_capacity(words.len());
-    for word in &words {
-        let value: f32 = word
+    let mut numbers = [0.0f32; 6];
+    for (number, word) in numbers.iter_mut().zip(&words[..count]) {
+        *number = word
             .parse()
             .map_err(|_| syntax(path, line, format!("'{word}' is not a number")))?;
-        numbers.push(value);
     }
+    let numbers = &numbers[..count];
     let mut position = [numbers[0], numbers[1], numbers[2]];
     if let [_, _, _, w] = numbers[..] {
         if w == 0.0 {
@@ -341,24 +377,25 @@ fn check_vertex(path: &Path, line: usize, rest: &str) -> Result<(), SceneError> 
             value,
         });
     }
-    Ok(())
+    Ok((words, count))
 }
 
 /// `f v1[/vt/vn] v2 ...`: every index in range (1-based, or negative = relative) of what is
-/// defined above (`counts`: vertices, texture coordinates, normals). Returns the position
-/// indices as written and each corner's `vt` and `vn`, 0-based.
-#[allow(clippy::type_complexity)]
-fn check_face<'a>(
+/// defined above (`counts`: vertices, texture coordinates, normals). Appends the position
+/// indices as written (each after a space) to `normalized`, and each corner's `vt` and `vn`,
+/// 0-based, to `corners`.
+fn check_face(
     path: &Path,
     line: usize,
-    rest: &'a str,
+    rest: &str,
     counts: [usize; 3],
-) -> Result<(Vec<&'a str>, Vec<(Option<usize>, Option<usize>)>), SceneError> {
-    let mut indices = Vec::new();
-    let mut corners = Vec::new();
+    normalized: &mut String,
+    corners: &mut Vec<Corner>,
+) -> Result<(), SceneError> {
+    let mut vertices = 0;
     for word in rest.split_whitespace() {
-        let parts: Vec<&str> = word.split('/').collect();
-        if parts.len() > 3 {
+        let (parts, count) = slashes(word);
+        if count > 3 {
             return Err(syntax(
                 path,
                 line,
@@ -379,19 +416,24 @@ fn check_face<'a>(
             vertex_count: counts[0],
             valid: valid_range(counts[0], "vertices"),
         })?;
-        indices.push(position);
+        normalized.push(' ');
+        normalized.push_str(position);
+        vertices += 1;
+    }
+    if vertices == 0 {
+        return Err(syntax(path, line, "a face needs vertices"));
     }
     // Texture coordinate and normal indices after every position's: a face's positions are the
     // more fundamental error.
     for word in rest.split_whitespace() {
-        let parts: Vec<&str> = word.split('/').collect();
+        let (parts, _) = slashes(word);
         let optional = |slot: usize,
                         what: &str,
                         plural: &str|
          -> Result<Option<usize>, SceneError> {
-            match parts.get(slot) {
-                None | Some(&"") => Ok(None),
-                Some(text) => {
+            match parts[slot] {
+                "" => Ok(None),
+                text => {
                     let index: i64 = text.parse().map_err(|_| {
                         syntax(
                             path,
@@ -417,10 +459,21 @@ fn check_face<'a>(
         let vn = optional(2, "normal", "normals")?;
         corners.push((vt, vn));
     }
-    if indices.is_empty() {
-        return Err(syntax(path, line, "a face needs vertices"));
+    Ok(())
+}
+
+/// A face vertex's `/`-separated parts (the first three; missing ones empty) and how many
+/// there are.
+fn slashes(word: &str) -> ([&str; 3], usize) {
+    let mut parts = [""; 3];
+    let mut count = 0;
+    for part in word.split('/') {
+        if let Some(slot) = parts.get_mut(count) {
+            *slot = part;
+        }
+        count += 1;
     }
-    Ok((indices, corners))
+    (parts, count)
 }
 
 /// An OBJ index (1-based, or negative = counted back from the last) as 0-based, if in range.
@@ -816,9 +869,8 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
     };
     // tobj keeps the faces' order (its models follow the file) and fans each the same way.
     let mut corners = checked.faces.iter().flat_map(|face| {
-        crate::scene::mesh::fan_triangulate(&face.corners)
+        crate::scene::mesh::fan_triangulate(&checked.corners[face.corners.clone()])
             .map(move |triangle| (face.line, triangle))
-            .collect::<Vec<_>>()
     });
     let mut zero_normals: Vec<usize> = Vec::new();
     let mut default_material = None;
