@@ -895,6 +895,46 @@ mod tests {
         bins
     }
 
+    /// `partition` makes a node of two triangles a leaf without binning; the SAH it skips
+    /// must have made it one too, or trees would change where a split was cheaper.
+    #[test]
+    fn two_triangle_nodes_skip_binning_only_where_the_sah_makes_them_leaves() {
+        let mut rng = Lcg(5);
+        let mut scratch = Scratch::new();
+        let mut shortcuts = 0;
+        for case in 0..5000 {
+            let mut triangles = random_triangles(&mut rng, 2, [0.01, 0.5, 1.0, 30.0][case % 4]);
+            if case % 7 == 0 {
+                // Coincident centroids: no axis to bin on.
+                triangles[1] = triangles[0];
+            }
+            if case % 11 == 0 {
+                // Flat in z: boxes of zero height.
+                for v in triangles.iter_mut().flatten() {
+                    v.z = 0.25;
+                }
+            }
+            let mut items = items_of(&triangles);
+            let (bounds, centroids) = bounds_of(&items);
+            let area = bounds.half_area();
+            let shortcut = 2.0 <= TRAVERSAL_COST && area.is_finite() && area > 0.0;
+            if !shortcut {
+                continue;
+            }
+            shortcuts += 1;
+            assert!(partition(&mut scratch, &mut items, &bounds, &centroids, 1).is_none());
+            let binning = Binning::new(&centroids);
+            if let Some((split, _, _)) = best_split_binned(&mut scratch, &items, &binning) {
+                let split_cost = TRAVERSAL_COST + split.cost / area;
+                assert!(
+                    split_cost >= 2.0,
+                    "case {case}: a split costs {split_cost} < 2"
+                );
+            }
+        }
+        assert!(shortcuts > 4000, "only {shortcuts} cases took the shortcut");
+    }
+
     /// Large nodes bin into two sets merged after; their bins must be those of one set, bit
     /// for bit, and the spare set must be left empty for the next node.
     #[test]
