@@ -550,8 +550,9 @@ impl Binning {
         }
     }
 
-    /// Clamped before the conversion (NaN → 0: `max` returns the number), so the conversion
-    /// needs no saturation of its own and `bins` can clamp three lanes in two instructions.
+    /// Clamped before the conversion (NaN, from an infinite centroid times a zero scale,
+    /// becomes 0: `f32::max` returns the number), so the conversion needs no saturation of its
+    /// own.
     #[allow(
         clippy::manual_clamp,
         reason = "clamp keeps NaN; this maps it to bin 0"
@@ -561,10 +562,13 @@ impl Binning {
         to_bin(scaled.max(0.0).min(LAST_BIN))
     }
 
-    /// [`Binning::bin`] along the three axes at once (the same products, lane by lane).
+    /// [`Binning::bin`] along the three axes at once (the same products, lane by lane). A
+    /// vector `max` treats NaN as the SIMD unit does (SSE returns the second operand, NEON
+    /// NaN), so NaN is caught by a comparison instead, false for it everywhere.
     fn bins(&self, centroid: Vec3A) -> [usize; 3] {
         let scaled = (centroid - self.lo) * self.scale;
-        let clamped = scaled.max(Vec3A::ZERO).min(Vec3A::splat(LAST_BIN));
+        let positive = Vec3A::select(scaled.cmpge(Vec3A::ZERO), scaled, Vec3A::ZERO);
+        let clamped = positive.min(Vec3A::splat(LAST_BIN));
         clamped.to_array().map(to_bin)
     }
 }
@@ -574,8 +578,8 @@ impl Binning {
 /// value is known to be in range, so one truncating conversion does.
 fn to_bin(clamped: f32) -> usize {
     debug_assert!((0.0..=LAST_BIN).contains(&clamped));
-    // SAFETY: the callers clamp to [0, LAST_BIN] with `max` first (NaN becomes 0), so the value
-    // is finite and fits a u32.
+    // SAFETY: the callers map NaN and negative values to 0 and clamp to LAST_BIN, so the
+    // value is finite and fits a u32.
     unsafe { clamped.to_int_unchecked::<u32>() as usize }
 }
 
@@ -893,6 +897,32 @@ mod tests {
         let (mut bins, mut spare) = (Bins::EMPTY, Bins::EMPTY);
         bin_into(&mut bins, &mut spare, items, binning);
         bins
+    }
+
+    /// Bin coordinates convert without saturation, so each must be a number in range first:
+    /// NaN (an overflowing centroid times a zero scale), infinities and values beyond the grid
+    /// go to the end bins, and the three-axis binning agrees with the one-axis one.
+    #[test]
+    fn nan_and_out_of_grid_centroids_bin_into_the_end_bins() {
+        let binning = Binning {
+            lo: Vec3A::new(0.0, -1.0, 2.0),
+            scale: Vec3A::new(0.0, 4.0, f32::INFINITY),
+            axes: [true; 3],
+        };
+        let cases = [
+            (
+                Vec3A::splat(f32::INFINITY),
+                [0, LAST_BIN as usize, LAST_BIN as usize],
+            ),
+            (Vec3A::splat(f32::NEG_INFINITY), [0, 0, 0]),
+            (Vec3A::new(f32::NAN, 1e30, -1e30), [0, LAST_BIN as usize, 0]),
+            (Vec3A::new(5.0, 0.0, 2.0), [0, 4, 0]),
+        ];
+        for (centroid, expected) in cases {
+            assert_eq!(binning.bins(centroid), expected, "{centroid}");
+            let one_axis = [0, 1, 2].map(|axis| binning.bin(centroid, axis));
+            assert_eq!(one_axis, expected, "{centroid}");
+        }
     }
 
     /// `partition` makes a node of two triangles a leaf without binning; the SAH it skips
