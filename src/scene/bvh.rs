@@ -450,7 +450,8 @@ impl Bins {
         }
     }
 
-    /// Moves `other`'s occupied bins into these (as [`Bins::merge`]), leaving it empty.
+    /// Moves `other`'s occupied bins into these (boxes merge by min and max, counts by sum:
+    /// exact), leaving it empty.
     fn drain(&mut self, other: &mut Bins) {
         for axis in 0..3 {
             for b in occupied_bins(other.occupied[axis]) {
@@ -461,18 +462,6 @@ impl Bins {
             self.occupied[axis] |= other.occupied[axis];
         }
         other.clear();
-    }
-
-    /// Adds another chunk's bins (boxes merge by min and max, counts by sum: exact).
-    fn merge(&mut self, other: &Bins) {
-        for axis in 0..3 {
-            for b in 0..BINS {
-                let o = other.bounds[axis][b];
-                self.bounds[axis][b].grow(o.lo, o.hi);
-                self.counts[axis][b] += other.counts[axis][b];
-            }
-            self.occupied[axis] |= other.occupied[axis];
-        }
     }
 }
 
@@ -688,8 +677,8 @@ fn bin(items: &[Item], binning: &Binning) -> Bins {
         })
         .reduce(
             || Bins::EMPTY,
-            |mut a, b| {
-                a.merge(&b);
+            |mut a, mut b| {
+                a.drain(&mut b);
                 a
             },
         )

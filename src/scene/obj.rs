@@ -84,19 +84,19 @@ struct FaceCorners {
 /// A face corner's `vt` and `vn` indices (0-based) where given.
 type Corner = (Option<usize>, Option<usize>);
 
-/// Up to `N` whitespace-separated words of `text` and how many it has in all (which may be
-/// more than `N`): the lines' checks need a few words each, and collecting them into a vector
-/// allocated once per line.
-fn words<const N: usize>(text: &str) -> ([&str; N], usize) {
-    let mut words = [""; N];
+/// The first `N` pieces of a line's `parts` (words, or a face vertex's `/`-separated indices;
+/// missing ones empty) and how many there are in all (which may be more than `N`): the checks
+/// need a few pieces each, and collecting them into a vector allocated once per line.
+fn first<'a, const N: usize>(parts: impl Iterator<Item = &'a str>) -> ([&'a str; N], usize) {
+    let mut first = [""; N];
     let mut count = 0;
-    for word in text.split_whitespace() {
-        if let Some(slot) = words.get_mut(count) {
-            *slot = word;
+    for part in parts {
+        if let Some(slot) = first.get_mut(count) {
+            *slot = part;
         }
         count += 1;
     }
-    (words, count)
+    (first, count)
 }
 
 /// The images the materials use, each decoded once per encoding.
@@ -305,7 +305,7 @@ fn check_numbers(
     rest: &str,
     counts: std::ops::RangeInclusive<usize>,
 ) -> Result<[f32; 3], SceneError> {
-    let (words, count) = words::<3>(rest);
+    let (words, count) = first::<3>(rest.split_whitespace());
     if !counts.contains(&count) {
         let expected = if counts.start() == counts.end() {
             format!("{}", counts.start())
@@ -341,7 +341,7 @@ fn check_vertex<'a>(
     line: usize,
     rest: &'a str,
 ) -> Result<([&'a str; 6], usize), SceneError> {
-    let (words, count) = words::<6>(rest);
+    let (words, count) = first::<6>(rest.split_whitespace());
     if !matches!(count, 3 | 4 | 6) {
         return Err(syntax(
             path,
@@ -394,7 +394,7 @@ fn check_face(
 ) -> Result<(), SceneError> {
     let mut vertices = 0;
     for word in rest.split_whitespace() {
-        let (parts, count) = slashes(word);
+        let (parts, count) = first::<3>(word.split('/'));
         if count > 3 {
             return Err(syntax(
                 path,
@@ -426,7 +426,7 @@ fn check_face(
     // Texture coordinate and normal indices after every position's: a face's positions are the
     // more fundamental error.
     for word in rest.split_whitespace() {
-        let (parts, _) = slashes(word);
+        let (parts, _) = first::<3>(word.split('/'));
         let optional = |slot: usize,
                         what: &str,
                         plural: &str|
@@ -460,20 +460,6 @@ fn check_face(
         corners.push((vt, vn));
     }
     Ok(())
-}
-
-/// A face vertex's `/`-separated parts (the first three; missing ones empty) and how many
-/// there are.
-fn slashes(word: &str) -> ([&str; 3], usize) {
-    let mut parts = [""; 3];
-    let mut count = 0;
-    for part in word.split('/') {
-        if let Some(slot) = parts.get_mut(count) {
-            *slot = part;
-        }
-        count += 1;
-    }
-    (parts, count)
 }
 
 /// An OBJ index (1-based, or negative = counted back from the last) as 0-based, if in range.
