@@ -71,6 +71,7 @@
 #include "lib/nee.wgsl"
 #include "lib/shade_ambient.wgsl"
 #include "lib/shade_direct.wgsl"
+#include "lib/path_primary.wgsl"
 #include "lib/path_pass.wgsl"
 #include "lib/path_light.wgsl"
 

@@ -390,3 +390,18 @@ fn raster_pass_draws_with_depth_test_and_a_compute_pass_reads_it() {
     run_frames(&mut executor, 2);
     assert_all(&f16_channels(&read(&executor, "out")), 0.5, "out");
 }
+
+#[test]
+fn indirect_dispatch_runs_the_workgroups_an_earlier_pass_wrote() {
+    let plan = plan("gpu_indirect.ron", [8, 8]);
+    let count = plan.passes.iter().find(|p| p.name == "count").unwrap();
+    let args = plan
+        .resources
+        .iter()
+        .position(|r| r.name == "args")
+        .unwrap();
+    assert_eq!(count.indirect.map(|(r, o)| (r.0, o)), Some((args, 16)));
+    let mut executor = executor(&plan, &ProvidedData::default());
+    run_frames(&mut executor, 2);
+    assert_eq!(read(&executor, "counter"), 48u32.to_le_bytes());
+}

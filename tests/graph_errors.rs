@@ -819,3 +819,63 @@ fn loaded_attachment_of_a_persistent_texture_compiles_as_read_write() {
         draw.uses
     );
 }
+
+const INDIRECT: &str = "graphs/gpu_indirect.ron";
+
+#[test]
+fn indirect_dispatch_record_past_the_buffer_names_the_offset_and_the_buffer() {
+    let s = Scratch::new();
+    s.edit(INDIRECT, r#""record": U32(1)"#, r#""record": U32(2)"#);
+    let (e, msg) = s.error(INDIRECT);
+    assert!(matches!(e, GraphError::Dispatch { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'count'", "offset 32", "'args'", "32 bytes"]);
+}
+
+#[test]
+fn indirect_dispatch_through_a_written_binding_is_an_error() {
+    let s = Scratch::new();
+    s.edit(
+        "shaders/gpu_count_invocations.wgsl",
+        "var<storage, read> args",
+        "var<storage, read_write> args",
+    );
+    let (e, msg) = s.error(INDIRECT);
+    assert!(matches!(e, GraphError::Dispatch { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'count'", "'args'", "var<storage, read>"]);
+}
+
+#[test]
+fn indirect_dispatch_naming_an_absent_binding_or_param_is_an_error() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/gpu_count_invocations.ron",
+        r#"binding: "args""#,
+        r#"binding: "argz""#,
+    );
+    let (e, msg) = s.error(INDIRECT);
+    assert!(matches!(e, GraphError::Dispatch { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'count'", "'argz'", "args, counter"]);
+
+    let s = Scratch::new();
+    s.edit(
+        "passes/gpu_count_invocations.ron",
+        r#"index: "record""#,
+        r#"index: "level""#,
+    );
+    let (e, msg) = s.error(INDIRECT);
+    assert!(matches!(e, GraphError::Dispatch { .. }), "{msg}");
+    assert_mentions(&msg, &["pass 'count'", "param 'level'"]);
+}
+
+#[test]
+fn indirect_dispatch_cannot_declare_a_pixel_footprint() {
+    let s = Scratch::new();
+    s.edit(
+        "passes/gpu_count_invocations.ron",
+        "Pass(shader:",
+        "Pass(footprint: Pixel, shader:",
+    );
+    let (e, msg) = s.error(INDIRECT);
+    assert!(matches!(e, GraphError::Footprint { .. }), "{msg}");
+    assert_mentions(&msg, &["gpu_count_invocations.ron", "Indirect"]);
+}

@@ -97,19 +97,20 @@ fn emitter_contribution(p: ShadingPoint, wo: vec3<f32>, origin: vec3<f32>, light
     return f * e.value * (weight / pmf);
 }
 
-// The environment's radiance a BSDF sample from p meets when its ray leaves the scene, times
-// its MIS weight against light sampling from p (as emission_weighted for an emitter it hits).
-fn environment_weighted(p: ShadingPoint, bs: BsdfSample) -> vec3<f32> {
+// The environment's radiance a BSDF sample meets when its ray leaves the scene, times its MIS
+// weight against light sampling from the vertex it left (at xp, geometric normal xn), as
+// emission_weighted for an emitter it hits.
+fn environment_weighted(xp: vec3<f32>, xn: vec3<f32>, bs: BsdfSample) -> vec3<f32> {
     if !scene_has_environment() || (!bs.delta && !mis_uses_bsdf()) {
         return vec3<f32>(0.0);
     }
     let env = scene_light(lights, scene_environment);
     let le = environment_radiance(env, bs.wi);
     var pdf_light = 0.0;
-    if !bs.delta && mis_uses_light() && dot(p.s.n, bs.wi) > 0.0 {
+    if !bs.delta && mis_uses_light() && dot(xn, bs.wi) > 0.0 {
         pdf_light = environment_pdf(env, bs.wi);
         if light_selection {
-            pdf_light *= light_pmf(p.s.p, p.s.n, scene_environment);
+            pdf_light *= light_pmf(xp, xn, scene_environment);
         }
     }
     return le * mis_bsdf_weight(bs.pdf, bs.delta, pdf_light);
@@ -137,20 +138,22 @@ fn all_lights(p: ShadingPoint, wo: vec3<f32>, source: SampleSource, dim_light: u
     return sum;
 }
 
-// The emitted radiance a BSDF sample from p (ray from `origin` along bs.wi) meets at hit q,
-// times its MIS weight against light sampling from p.
-fn emission_weighted(p: ShadingPoint, origin: vec3<f32>, bs: BsdfSample, q: ShadingPoint) -> vec3<f32> {
+// The emitted radiance a BSDF sample meets at hit q, times its MIS weight against light
+// sampling from the vertex it left (at xp, geometric normal xn): what a path needs of
+// that vertex, so a wavefront pass can keep it in a path's state.
+fn emission_weighted(xp: vec3<f32>, xn: vec3<f32>, bs: BsdfSample, q: ShadingPoint) -> vec3<f32> {
     // Light sampling alone counts the emitters a non-delta sample meets.
     if all(q.emitted == vec3<f32>(0.0)) || (!bs.delta && !mis_uses_bsdf()) {
         return vec3<f32>(0.0);
     }
-    // The density light sampling (from p itself) gives this direction: 0 below p's tangent
-    // plane, where no light sample is taken, or for an emitter that is not a light (zero area).
+    // The density light sampling (from the vertex itself) gives this direction: 0 below its
+    // tangent plane, where no light sample is taken, or for an emitter that is not a light
+    // (zero area).
     var pdf_light = 0.0;
-    if !bs.delta && mis_uses_light() && q.light != NO_LIGHT && dot(p.s.n, bs.wi) > 0.0 {
-        pdf_light = light_pdf(p.s.p, scene_light(lights, q.light), bs.wi);
+    if !bs.delta && mis_uses_light() && q.light != NO_LIGHT && dot(xn, bs.wi) > 0.0 {
+        pdf_light = light_pdf(xp, scene_light(lights, q.light), bs.wi);
         if light_selection {
-            pdf_light *= light_pmf(p.s.p, p.s.n, q.light);
+            pdf_light *= light_pmf(xp, xn, q.light);
         }
     }
     return q.emitted * mis_bsdf_weight(bs.pdf, bs.delta, pdf_light);

@@ -79,11 +79,11 @@ fn path_light(first: ShadingPoint, first_dir: vec3<f32>, source: SampleSource, p
         let hit = closest_hit(origin, next.wi, 0.0, 3.0e38);
         if hit.triangle == NO_HIT {
             // The path of `depth` segments ends in the environment.
-            sum += throughput * environment_weighted(x, next);
+            sum += throughput * environment_weighted(x.s.p, x.s.n, next);
             break;
         }
         let y = shading_point(hit.triangle, hit.u, hit.v, next.wi);
-        sum += throughput * emission_weighted(x, origin, next, y);
+        sum += throughput * emission_weighted(x.s.p, x.s.n, next, y);
         x = y;
         dir = next.wi;
     }

@@ -1,7 +1,6 @@
 // What the two whole-sample passes (shaders/path.wgsl, shaders/path_reuse.wgsl) share: their
-// params, their bindings (the same pass interface, so a graph swaps one for the other), the
-// primary ray of a sample and the write of the frame's channel means. Included after scene,
-// sampler, camera_ray, bvh and primary.
+// params, their bindings (the same pass interface, so a graph swaps one for the other) and the
+// write of the frame's channel means.
 
 struct Params {
     ambient_color: vec3<f32>,
@@ -17,13 +16,6 @@ override samples_per_frame: u32 = 1u;
 @group(0) @binding(3) var indirect: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(4) var ambient: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var<storage, read_write> ray_count: array<atomic<u32>, 2>;
-
-// The primary ray of `pixel` for `source` (filtered, through the lens) and its closest hit (as intersect traces it).
-fn path_primary(pixel: vec2<u32>, source: SampleSource) -> Primary {
-    let ray = camera_sample_ray(pixel, source, true);
-    let hit = closest_hit(ray.origin, ray.dir, 0.0, 3.0e38);
-    return Primary(ray.origin, ray.dir, hit.t, hit.u, hit.v, hit.triangle);
-}
 
 // Writes the frame's channels: the sums of its samples_per_frame samples, as means.
 fn store_channel_means(pixel: vec2<u32>, sum_l0: vec3<f32>, sum_direct: vec3<f32>, sum_indirect: vec3<f32>, sum_ambient: vec3<f32>) {

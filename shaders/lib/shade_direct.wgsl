@@ -52,8 +52,8 @@ fn bsdf_light(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> vec3<f32>
     let origin = leaving(p.s, bs.wi);
     let hit = closest_hit(origin, bs.wi, 0.0, 3.0e38);
     if hit.triangle == NO_HIT {
-        return bs.weight * environment_weighted(p, bs);
+        return bs.weight * environment_weighted(p.s.p, p.s.n, bs);
     }
     let q = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
-    return bs.weight * emission_weighted(p, origin, bs, q);
+    return bs.weight * emission_weighted(p.s.p, p.s.n, bs, q);
 }

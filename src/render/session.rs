@@ -481,11 +481,18 @@ impl Session {
     /// shaders/lib/ray_count.wgsl); `None` if no pass counts. Blocks until the GPU is done.
     pub fn rays_counted(&self) -> Result<Option<u64>, RenderError> {
         let mut total = None;
-        for pass in &self.plan.passes {
-            let Some(binding) = pass.bindings.iter().find(|b| b.name == RAY_COUNT) else {
-                continue;
-            };
-            let name = &self.plan.resources[binding.resource].name;
+        // Passes may share one count (the wavefront's levels): each buffer counts once.
+        let mut buffers: Vec<_> = self
+            .plan
+            .passes
+            .iter()
+            .filter_map(|pass| pass.bindings.iter().find(|b| b.name == RAY_COUNT))
+            .map(|binding| binding.resource)
+            .collect();
+        buffers.sort_unstable();
+        buffers.dedup();
+        for resource in buffers {
+            let name = &self.plan.resources[resource].name;
             let bytes = self.executor.read_resource(name)?;
             let word = |i: usize| {
                 bytes.get(4 * i..4 * i + 4).map_or(0, |b| {

@@ -117,7 +117,12 @@ impl Executor {
                         if let Some(timer) = &self.timer {
                             timer.write_pass(&mut compute, p, false);
                         }
-                        compute.dispatch_workgroups(x, y, z);
+                        match &pass.indirect {
+                            Some((buffer, offset)) => {
+                                compute.dispatch_workgroups_indirect(buffer, *offset)
+                            }
+                            None => compute.dispatch_workgroups(x, y, z),
+                        }
                         if let Some(timer) = &self.timer {
                             timer.write_pass(&mut compute, p, true);
                         }

@@ -23,6 +23,8 @@ pub struct PreparedPass {
     /// The `params` uniform and its length in bytes.
     pub params: Option<(wgpu::Buffer, u64)>,
     pub workgroups: [u32; 3],
+    /// An `Indirect` dispatch's buffer and the offset of its workgroup counts.
+    pub indirect: Option<(wgpu::Buffer, u64)>,
     /// Why the pipeline was built from the WGSL as written instead of the module specialised
     /// to its override values (the same image; a slower pipeline to create); `None` when it
     /// was specialised.
@@ -330,12 +332,21 @@ fn create(
         bind_groups.push((*group, bind_group));
     }
 
+    // The compiler made the counts' buffer one of the pass's bindings.
+    let indirect = pass.indirect.and_then(|(id, offset)| {
+        let i = pass.bindings.iter().position(|b| b.resource == id)?;
+        match &bound[i] {
+            BoundResource::Buffer(buffer) => Some(((*buffer).clone(), offset)),
+            BoundResource::View(_) => None,
+        }
+    });
     PreparedPass {
         name: pass.name.clone(),
         pipeline,
         bind_groups,
         params,
         workgroups: pass.workgroups,
+        indirect,
         unspecialised,
     }
 }

@@ -386,7 +386,7 @@ fn create_object(
                     Usage::ColorAttachment | Usage::DepthAttachment => {
                         wgpu::TextureUsages::RENDER_ATTACHMENT
                     }
-                    Usage::Uniform => wgpu::TextureUsages::empty(),
+                    Usage::Uniform | Usage::Indirect => wgpu::TextureUsages::empty(),
                 };
             }
             let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -415,6 +415,7 @@ fn create_object(
                     Usage::StorageRead | Usage::StorageWrite | Usage::StorageReadWrite => {
                         wgpu::BufferUsages::STORAGE
                     }
+                    Usage::Indirect => wgpu::BufferUsages::INDIRECT,
                     Usage::Sampled | Usage::ColorAttachment | Usage::DepthAttachment => {
                         wgpu::BufferUsages::empty()
                     }

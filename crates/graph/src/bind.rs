@@ -29,6 +29,8 @@ pub struct BoundPass {
     pub uses: Vec<(ResourceId, Access)>,
     pub usages: Vec<(ResourceId, Usage)>,
     pub raster: Option<PlannedRaster>,
+    /// For an `Indirect` dispatch: the buffer holding the workgroup counts and their offset.
+    pub indirect: Option<(ResourceId, u64)>,
 }
 
 /// Checks that a pass file's params match its shader: every `params` field and every
@@ -216,7 +218,7 @@ pub fn bind_instance(
         check_bounds(
             graph_file,
             instance,
-            pass.decl.dispatch,
+            &pass.decl.dispatch,
             b,
             &resources[id],
             output_size,
@@ -313,8 +315,25 @@ pub fn bind_instance(
         .filter(|o| provided.get_override(&o.name).is_some())
         .map(|o| o.name.clone())
         .collect();
+    let indirect = match &pass.decl.dispatch {
+        Dispatch::Indirect {
+            binding,
+            index,
+            stride,
+        } if raster.is_none() => {
+            let record = (binding.as_str(), index.as_deref(), *stride);
+            let id = bind_indirect(
+                graph_file, instance, pass, &bindings, resources, &params, record,
+            )?;
+            usages.push((id.0, Usage::Indirect));
+            Some(id)
+        }
+        _ => None,
+    };
     let workgroups = match pass.decl.dispatch {
         _ if raster.is_some() => [1, 1, 1],
+        // Read from the buffer when the pass runs.
+        Dispatch::Indirect { .. } => [0, 0, 0],
         Dispatch::PerPixel => {
             let [wx, wy, _] = shader.workgroup_size;
             [
@@ -351,7 +370,87 @@ pub fn bind_instance(
         uses,
         usages,
         raster,
+        indirect,
     })
+}
+
+/// Resolves an `Indirect` dispatch's record: the binding it names must be a read-only storage
+/// buffer of the graph's (WebGPU forbids a buffer written in the same dispatch that reads its
+/// counts), and the record at `stride` times the index param must lie inside it.
+fn bind_indirect(
+    graph_file: &Path,
+    instance: &PassInstanceDecl,
+    pass: &LoadedPass,
+    bindings: &[PlannedBinding],
+    resources: &IdVec<ResourceId, PlannedResource>,
+    params: &BTreeMap<String, ParamValue>,
+    (binding, index, stride): (&str, Option<&str>, u64),
+) -> Result<(ResourceId, u64), GraphError> {
+    let error = |reason: String| GraphError::Dispatch {
+        graph: graph_file.to_path_buf(),
+        pass: instance.name.clone(),
+        shader: pass.shader.path.clone(),
+        reason,
+    };
+    let Some(b) = bindings.iter().find(|b| b.name == binding) else {
+        return Err(error(format!(
+            "dispatch Indirect reads its workgroup counts through binding '{binding}', which the shader does not use (it uses: {})",
+            bindings
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    if !matches!(
+        b.kind,
+        BindingKind::Storage {
+            access: Access::Read,
+            ..
+        }
+    ) {
+        return Err(error(format!(
+            "dispatch Indirect reads its workgroup counts through binding '{binding}', which is {}; it must be `var<storage, read>` (a buffer the same dispatch writes cannot hold its counts)",
+            b.kind
+        )));
+    }
+    let resource = &resources[b.resource];
+    let ResourceKind::Buffer { size } = resource.kind else {
+        return Err(error(format!(
+            "dispatch Indirect reads its workgroup counts from '{}', which is not a buffer of the graph",
+            resource.name
+        )));
+    };
+    let record = match index {
+        None => 0,
+        Some(name) => match params.get(name) {
+            Some(ParamValue::U32(i)) => u64::from(*i),
+            Some(other) => {
+                return Err(error(format!(
+                    "dispatch Indirect takes its record index from param '{name}', which is a {}, not a u32",
+                    other.ty()
+                )));
+            }
+            None => {
+                return Err(error(format!(
+                    "dispatch Indirect takes its record index from param '{name}', which the pass does not have"
+                )));
+            }
+        },
+    };
+    let offset = record.saturating_mul(stride);
+    if stride % 4 != 0 || offset.saturating_add(12) > size {
+        return Err(error(format!(
+            "dispatch Indirect reads 12 bytes at offset {offset} (record {record}, stride {stride}) of '{}', which has {size} bytes{}",
+            resource.name,
+            if stride % 4 != 0 {
+                "; the stride must be a multiple of 4"
+            } else {
+                ""
+            }
+        )));
+    }
+    Ok((b.resource, offset))
 }
 
 /// What reflection can prove goes out of bounds: a constant layer index beyond the texture's
@@ -360,7 +459,7 @@ pub fn bind_instance(
 fn check_bounds(
     graph_file: &Path,
     instance: &PassInstanceDecl,
-    dispatch: Dispatch,
+    dispatch: &Dispatch,
     b: &ShaderBinding,
     resource: &PlannedResource,
     [out_w, out_h]: [u32; 2],

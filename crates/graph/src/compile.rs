@@ -185,6 +185,7 @@ pub fn compile(
                 entry: pass.decl.entry.clone(),
                 stage,
                 workgroups: b.workgroups,
+                indirect: b.indirect,
                 workgroup_size: pass.interface.workgroup_size,
                 needs_subgroups: pass.interface.needs_subgroups,
                 bindings: b.bindings.clone(),

@@ -48,7 +48,7 @@ pub enum Footprint {
     /// within its own 8x8 block of pixels, as subgroups do), and takes rays and samples from
     /// the pixel's place in the whole image (`frame.image_origin`, `frame.image_size`). An
     /// image of a graph whose passes all declare it can be rendered in tiles, bit for bit as
-    /// whole. Not for `Workgroups` dispatches or raster passes.
+    /// whole. Not for `Workgroups` or `Indirect` dispatches or raster passes.
     Pixel,
 }
 
@@ -89,7 +89,7 @@ fn default_entry() -> String {
 }
 
 /// How many workgroups a pass launches.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize)]
 pub enum Dispatch {
     /// One invocation per output pixel: ceil(size / workgroup_size) workgroups.
     #[default]
@@ -101,6 +101,24 @@ pub enum Dispatch {
     /// them onto the tile. For shaders that need a one-dimensional workgroup over a 2D tile
     /// (subgroup builtins require one: shaders/path_reuse.wgsl).
     PerTile(u32, u32),
+    /// As many workgroups as an earlier pass of the frame wrote: three u32 (x, y, z) in the
+    /// buffer bound to the shader's read-only storage `binding`, at byte offset
+    /// `stride * index` where `index` names a u32 param of the pass (offset 0 without one),
+    /// so a pass runs only the work queued for it (the wavefront's levels:
+    /// shaders/lib/wavefront.wgsl). The record must lie inside the buffer (checked when the
+    /// graph compiles); limits past the device's per-dimension maximum launch nothing.
+    Indirect {
+        binding: String,
+        #[serde(default, deserialize_with = "plain_option")]
+        index: Option<String>,
+        #[serde(default = "indirect_stride")]
+        stride: u64,
+    },
+}
+
+/// Three u32 (x, y, z): records packed one after another.
+fn indirect_stride() -> u64 {
+    12
 }
 
 /// `graphs/<name>.ron`: resources, pass instances in program order, and outputs — or, with

@@ -71,6 +71,11 @@ impl fmt::Display for BindingKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BindingKind::Uniform { .. } => f.write_str("var<uniform>"),
+            // A read_write buffer the shader only stores to (see reflect::written_only).
+            BindingKind::Storage {
+                access: Access::Write,
+                ..
+            } => f.write_str("var<storage, read_write> (stored to only)"),
             BindingKind::Storage { access, .. } => write!(f, "var<storage, {access}>"),
             BindingKind::StorageTexture {
                 access,

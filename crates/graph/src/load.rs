@@ -107,6 +107,8 @@ fn check_footprint(file: &Path, decl: &PassDecl) -> Result<(), GraphError> {
         "a raster pass draws the whole frame's projection, so it cannot declare `footprint: Pixel` (its image is never rendered in tiles); remove the field"
     } else if let Dispatch::Workgroups(..) = decl.dispatch {
         "a `Workgroups` dispatch is not one invocation per pixel, so it cannot declare `footprint: Pixel`; dispatch PerPixel or PerTile, or remove the field"
+    } else if let Dispatch::Indirect { .. } = decl.dispatch {
+        "an `Indirect` dispatch runs the work an earlier pass queued, not one invocation per pixel, so it cannot declare `footprint: Pixel`; remove the field"
     } else {
         return Ok(());
     };

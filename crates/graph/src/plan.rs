@@ -102,7 +102,10 @@ pub struct PlannedPass {
     pub shader: ShaderSource,
     pub entry: String,
     pub stage: Stage,
+    /// Workgroups per dispatch (unused when `indirect` is set).
     pub workgroups: [u32; 3],
+    /// An `Indirect` dispatch: the buffer whose bytes at the offset hold the workgroup counts.
+    pub indirect: Option<(ResourceId, u64)>,
     /// The entry point's `@workgroup_size`.
     pub workgroup_size: [u32; 3],
     /// Whether the shader uses subgroup operations (wgpu feature SUBGROUP).

@@ -84,7 +84,13 @@ impl fmt::Display for Plan {
                     "raster {}/{}, {} triangles",
                     r.vertex, r.fragment, r.triangles
                 ),
-                None => format!("{x}x{y}x{z} workgroups"),
+                None => match p.indirect {
+                    Some((r, offset)) => format!(
+                        "workgroups from {} at byte {offset}",
+                        self.resources[r].name
+                    ),
+                    None => format!("{x}x{y}x{z} workgroups"),
+                },
             };
             let mut line = format!(
                 "  {} (stage {}, {}, {work})",

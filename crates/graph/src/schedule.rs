@@ -21,6 +21,8 @@ pub enum Usage {
     /// A raster pass's colour attachment (written; also read when the pass loads it).
     ColorAttachment,
     DepthAttachment,
+    /// The workgroup counts of an `Indirect` dispatch (read).
+    Indirect,
 }
 
 impl Usage {
@@ -60,6 +62,7 @@ impl fmt::Display for Usage {
             Usage::StorageReadWrite => "storage read_write",
             Usage::ColorAttachment => "color attachment",
             Usage::DepthAttachment => "depth attachment",
+            Usage::Indirect => "indirect",
         })
     }
 }

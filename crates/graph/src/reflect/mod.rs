@@ -10,7 +10,7 @@ use super::interface::{
 use super::param::{ParamType, ParamValue};
 use super::shader_source::{ShaderSource, ValidShader};
 use naga::common::wgsl::{ToWgsl, TypeContext};
-use naga::valid::{Capabilities, ValidationError, ValidationFlags, Validator};
+use naga::valid::{Capabilities, GlobalUse, ValidationError, ValidationFlags, Validator};
 use naga::{
     AddressSpace, Handle, ImageClass, ImageDimension, Module, Scalar, ScalarKind, ShaderStage,
     StorageAccess, Type, TypeInner, VectorSize,
@@ -123,6 +123,23 @@ pub const MAX_OPERATORS_PER_STATEMENT: usize = 16_384;
 /// internal error that has no position; this bound comes first and says where.
 pub const MAX_NESTING: usize = 64;
 
+/// A `read_write` storage buffer the entry points only store to (no load, no atomic) is
+/// written, not read: WGSL has no write-only buffers, and counting it as read would make its
+/// first writer in a frame read what nothing wrote (an error, or a needless persistent
+/// resource). Storage textures keep their declared access, which their layout must match.
+fn written_only(kind: BindingKind, read: impl Fn() -> bool) -> BindingKind {
+    match kind {
+        BindingKind::Storage {
+            access: Access::ReadWrite,
+            min_size,
+        } if !read() => BindingKind::Storage {
+            access: Access::Write,
+            min_size,
+        },
+        other => other,
+    }
+}
+
 fn reflect_module(
     source: &ShaderSource,
     entries: &[(ShaderStage, &str)],
@@ -228,7 +245,11 @@ fn reflect_module(
                 name,
                 group: slot.group,
                 binding: slot.binding,
-                kind,
+                kind: written_only(kind, || {
+                    found.iter().any(|&(index, _)| {
+                        info.get_entry_point(index)[handle].contains(GlobalUse::READ)
+                    })
+                }),
                 max_constant_layer: layers.get(&handle).copied(),
             }),
             Err(reason) => return Err(unsupported(&name, reason)),

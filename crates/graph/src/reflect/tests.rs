@@ -84,14 +84,46 @@ fn storage_min_size_counts_struct_with_one_runtime_element() {
          @group(0) @binding(0) var<storage, read_write> particles: Particles;
          @compute @workgroup_size(64) fn main() { particles.count = 1u; }",
     );
-    // count at 0, items aligned to 16, one 16-byte element.
+    // count at 0, items aligned to 16, one 16-byte element; only stored to, so written.
     assert_eq!(
         kind,
         BindingKind::Storage {
-            access: Access::ReadWrite,
+            access: Access::Write,
             min_size: 32
         }
     );
+}
+
+#[test]
+fn read_write_buffer_the_shader_only_stores_to_is_written_not_read() {
+    let access = |body: &str| {
+        single_binding(&format!(
+            "@group(0) @binding(0) var<storage, read_write> buf: array<atomic<u32>>;
+             @compute @workgroup_size(1) fn main() {{ {body} }}"
+        ))
+        .access()
+    };
+    // An atomic store is a store; any other atomic reads and writes.
+    assert_eq!(access("atomicStore(&buf[0], 1u);"), Access::Write);
+    assert_eq!(access("atomicAdd(&buf[0], 1u);"), Access::ReadWrite);
+    let plain = |body: &str| {
+        single_binding(&format!(
+            "@group(0) @binding(0) var<storage, read_write> buf: array<u32>;
+             @compute @workgroup_size(1) fn main() {{ {body} }}"
+        ))
+        .access()
+    };
+    assert_eq!(plain("buf[0] = 1u;"), Access::Write);
+    // Its length is no read of its contents.
+    assert_eq!(plain("buf[arrayLength(&buf) - 1u] = 1u;"), Access::Write);
+    assert_eq!(plain("buf[0] = buf[1];"), Access::ReadWrite);
+    assert_eq!(plain("buf[buf[0]] = 1u;"), Access::ReadWrite);
+    // A storage texture keeps its declaration, which its bind group layout must match.
+    let texture = single_binding(
+        "@group(0) @binding(0) var t: texture_storage_2d<r32float, read_write>;
+         @compute @workgroup_size(1) fn main() { textureStore(t, vec2<i32>(0), vec4<f32>(1.0)); }",
+    );
+    assert_eq!(texture.access(), Access::ReadWrite);
 }
 
 #[test]
