@@ -5,6 +5,7 @@
 #include "lib/cutout_map.wgsl"
 #include "lib/ray_count.wgsl"
 #include "lib/wavefront.wgsl"
+#include "lib/wavefront_trace.wgsl"
 
 // A pass param: the level (0: the primary hit's bounce), its record's index in `levels_in`.
 override level: u32 = 0u;
@@ -23,11 +24,9 @@ fn main(
     let entry = wavefront_entry(group, groups, local_index);
     if entry < levels_in[level].count {
         let slot = queue_in[entry];
-        let hit = closest_hit(paths[slot].origin, paths[slot].dir, 0.0, 3.0e38);
-        paths[slot].triangle = hit.triangle;
-        paths[slot].hit_t = hit.t;
-        paths[slot].hit_u = hit.u;
-        paths[slot].hit_v = hit.v;
+        var path = paths[slot];
+        wavefront_trace(&path);
+        paths[slot] = path;
     }
     count_rays(local_index);
 }

@@ -21,12 +21,15 @@
 #include "lib/nee.wgsl"
 #include "lib/path_light.wgsl"
 #include "lib/wavefront.wgsl"
+#include "lib/wavefront_trace.wgsl"
 #include "lib/wavefront_vertex.wgsl"
 
 // Pass params: the level (its record is levels_in[level], the next level's
-// levels_out[level + 1]), and whether it is the graph's last.
+// levels_out[level + 1]); whether it is the graph's last; whether it traces its paths' rays
+// itself (no extend pass before it: one dispatch per level instead of two).
 override level: u32 = 0u;
 override finish: bool = false;
+override trace: bool = false;
 
 @group(0) @binding(0) var<storage, read_write> paths: array<WavefrontPath>;
 @group(0) @binding(1) var<storage, read> queue_in: array<u32>;
@@ -42,14 +45,13 @@ fn shade(entry: u32) {
     let slot = queue_in[entry];
     let source = sample_source(wavefront_pixel(slot), 1u, 0u);
     var path = paths[slot];
+    if trace {
+        wavefront_trace(&path);
+    }
     var goes_on = wavefront_vertex(&path, source);
     if finish {
         while goes_on {
-            let hit = closest_hit(path.origin, path.dir, 0.0, 3.0e38);
-            path.triangle = hit.triangle;
-            path.hit_t = hit.t;
-            path.hit_u = hit.u;
-            path.hit_v = hit.v;
+            wavefront_trace(&path);
             goes_on = wavefront_vertex(&path, source);
         }
     }
