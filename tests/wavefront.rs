@@ -1,5 +1,5 @@
-//! The wavefront graph (graphs/pathtracer-wavefront.ron, shaders/lib/wavefront.wgsl) against
-//! the fused pass with one bounce and one light sample per primary hit: the same estimator on
+//! The wavefront graphs (graphs/pathtracer-wavefront.ron, shaders/lib/wavefront.wgsl, and
+//! graphs/pathtracer-wavefront-merged.ron, one pass per level) against the fused pass with one bounce and one light sample per primary hit: the same estimator on
 //! the same samples, so the same image but for the rounding of products taken in another
 //! order (the wavefront multiplies a path's throughput before it meets the light, the fused
 //! pass after). On the GPU (lavapipe in CI), on scenes that exercise each kind of vertex.
@@ -11,6 +11,7 @@ use passgraph::render::image::RgbImage;
 use passgraph::render::session::Session;
 
 const WAVEFRONT: &str = "graphs/pathtracer-wavefront.ron";
+const MERGED: &str = "graphs/pathtracer-wavefront-merged.ron";
 const FUSED: &str = "graphs/pathtracer-fused.ron";
 /// The fused pass's estimator that the wavefront's is.
 const ONE_PATH: [&str; 2] = ["path.bounces=1", "path.light_samples=1"];
@@ -25,10 +26,11 @@ fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Renders `scene` with both graphs (`max_depth` replacing the scene's where given; `set`
+/// Renders `scene` with the fused pass and `wavefront` (`max_depth` replacing the scene's where given; `set`
 /// params `P=V` set on the fused pass and on the wavefront's passes that have them) and
 /// compares `channels` one by one. Returns the rays each traced (fused, wavefront).
-fn check(
+fn check_graph(
+    wavefront_graph: &str,
     scene: &str,
     size: u32,
     max_depth: Option<u32>,
@@ -48,7 +50,7 @@ fn check(
         wavefront_sets.extend(instances.iter().map(|i| format!("{i}.{param}")));
     }
     let fused = session(FUSED, fused_sets);
-    let wavefront = session(WAVEFRONT, wavefront_sets);
+    let wavefront = session(wavefront_graph, wavefront_sets);
     for c in channels {
         let (a, b) = (channel(&fused, c), channel(&wavefront, c));
         assert!(
@@ -69,6 +71,17 @@ fn check(
         "{scene}: the wavefront traced {w} rays, the fused pass {f}"
     );
     (f, w)
+}
+
+/// check_graph for graphs/pathtracer-wavefront.ron.
+fn check(
+    scene: &str,
+    size: u32,
+    max_depth: Option<u32>,
+    set: &[(&str, &[&str])],
+    channels: &[&str],
+) -> (u64, u64) {
+    check_graph(WAVEFRONT, scene, size, max_depth, set, channels)
 }
 
 /// Every pass of the wavefront that shades with light sampling.
@@ -143,5 +156,18 @@ fn wavefront_last_level_finishes_paths_longer_than_the_graph() {
         Some(12),
         &[],
         &["indirect"],
+    );
+}
+
+/// One pass per level, tracing its own rays: the same paths.
+#[test]
+fn merged_levels_render_the_fused_passes_samples_through_glass_gold_and_plastic() {
+    check_graph(
+        MERGED,
+        "scenes/materials/scene.ron",
+        32,
+        Some(10),
+        &[],
+        &["l0", "direct", "indirect"],
     );
 }
