@@ -2,8 +2,10 @@
 // direct and indirect channels (as ambient, direct and indirect) from the same per-channel
 // functions and sampler dimensions, so its image has the same expectation as the seed's
 // separate passes, and with one sample per frame the same samples. What it saves: the ray
-// texture's writes and reads, three dispatches and their barriers. `samples_per_frame` traces
-// that many samples per pixel per frame and writes their mean, amortising per-dispatch costs.
+// texture's writes and reads, three dispatches and their barriers; with one light sample and one
+// bounce, also the primary hit's BSDF sample traced a second time (lib/shade_one_path.wgsl).
+// `samples_per_frame` traces that many samples per pixel per frame and writes their mean,
+// amortising per-dispatch costs.
 #include "lib/provided_scene.wgsl"
 #include "lib/rng.wgsl"
 #include "lib/sampler.wgsl"
@@ -29,6 +31,7 @@
 #include "lib/path_pass.wgsl"
 #include "lib/path_light.wgsl"
 #include "lib/shade_indirect.wgsl"
+#include "lib/shade_one_path.wgsl"
 
 fn shade(id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
@@ -41,10 +44,17 @@ fn shade(id: vec3<u32>) {
     for (var k = 0u; k < samples_per_frame; k++) {
         let source = sample_source(id.xy, samples_per_frame, k);
         let ray = path_primary(id.xy, source);
-        let lit = shade_direct(ray, source);
-        sum_l0 += lit.l0;
-        sum_direct += lit.direct;
-        sum_indirect += shade_indirect(ray, source);
+        if light_samples == 1u && bounces == 1u {
+            let one = shade_one_path(ray, source);
+            sum_l0 += one.l0;
+            sum_direct += one.direct;
+            sum_indirect += one.indirect;
+        } else {
+            let lit = shade_direct(ray, source);
+            sum_l0 += lit.l0;
+            sum_direct += lit.direct;
+            sum_indirect += shade_indirect(ray, source);
+        }
         sum_ambient += shade_ambient(ray, source, params.ambient_color, params.radius);
     }
     store_channel_means(id.xy, sum_l0, sum_direct, sum_indirect, sum_ambient);

@@ -181,3 +181,31 @@ fn coherent_bounce_order_sums_the_same_bounces_as_index_order() {
         );
     }
 }
+
+/// With one light sample and one bounce, the direct channel's MIS half and the indirect
+/// channel's first bounce are one BSDF sample (the same sampler pairs): the fused pass traces
+/// it once (shaders/lib/shade_one_path.wgsl) where the separate passes trace it twice, and
+/// renders the same image.
+#[test]
+fn fused_pass_traces_the_primary_hits_bsdf_sample_once_for_both_channels() {
+    let run = |graph: &str| {
+        let mut s = settings(graph, "scenes/materials/scene.ron", 32, 4, &[]);
+        s.max_depth = Some(8);
+        render(&s, 4)
+    };
+    let separate = run("graphs/pathtracer.ron");
+    let fused = run("graphs/pathtracer-fused.ron");
+    for c in ["l0", "direct", "indirect"] {
+        let (a, b) = (channel(&separate, c), channel(&fused, c));
+        assert!(a.mean()[0] > 0.0, "{c} is black");
+        let d = max_relative_difference(&a, &b);
+        assert!(d <= 1e-6, "{c}: the fused image differs by {d}");
+    }
+    let rays = |s: &passgraph::render::session::Session| s.rays_counted().unwrap().unwrap();
+    let (s, f) = (rays(&separate), rays(&fused));
+    // The gold, plastic and glass fill many of the 32x32 pixels: hundreds of rays a frame.
+    assert!(
+        f + 4 * 100 <= s,
+        "the fused pass traced {f} rays, the separate passes {s}"
+    );
+}
