@@ -4,21 +4,10 @@
 
 mod common;
 
-use common::render::{image as channel, render, settings};
+use common::render::{image as channel, max_relative_difference, render, settings};
 use common::stats::{assert_unbiased, cornell_reference_mean};
-use passgraph::render::image::RgbImage;
 
 const CORNELL: &str = "scenes/cornell/scene.ron";
-
-/// The largest difference between two images, relative to the larger of 1 and the pixel.
-fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
-    a.pixels
-        .iter()
-        .flatten()
-        .zip(b.pixels.iter().flatten())
-        .map(|(&x, &y)| (x - y).abs() / x.abs().max(y.abs()).max(1.0))
-        .fold(0.0, f32::max)
-}
 
 #[test]
 fn fused_pass_renders_the_separate_passes_samples_in_every_channel() {

@@ -6,8 +6,7 @@
 
 mod common;
 
-use common::render::{image as channel, render, settings};
-use passgraph::render::image::RgbImage;
+use common::render::{image as channel, max_relative_difference, render, settings};
 use passgraph::render::session::Session;
 
 const WAVEFRONT: &str = "graphs/pathtracer-wavefront.ron";
@@ -15,16 +14,6 @@ const MERGED: &str = "graphs/pathtracer-wavefront-merged.ron";
 const FUSED: &str = "graphs/pathtracer-fused.ron";
 /// The fused pass's estimator that the wavefront's is.
 const ONE_PATH: [&str; 2] = ["path.bounces=1", "path.light_samples=1"];
-
-/// The largest difference between two images, relative to the larger of 1 and the pixel.
-fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
-    a.pixels
-        .iter()
-        .flatten()
-        .zip(b.pixels.iter().flatten())
-        .map(|(&x, &y)| (x - y).abs() / x.abs().max(y.abs()).max(1.0))
-        .fold(0.0, f32::max)
-}
 
 /// Renders `scene` with the fused pass and `wavefront` (`max_depth` replacing the scene's where given; `set`
 /// params `P=V` set on the fused pass and on the wavefront's passes that have them) and

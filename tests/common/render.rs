@@ -67,3 +67,13 @@ pub fn mean(img: &RgbImage) -> f64 {
     let m = img.mean();
     (m[0] + m[1] + m[2]) / 3.0
 }
+
+/// The largest difference between two images, relative to the larger of 1 and the pixel.
+pub fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
+    a.pixels
+        .iter()
+        .flatten()
+        .zip(b.pixels.iter().flatten())
+        .map(|(&x, &y)| (x - y).abs() / x.abs().max(y.abs()).max(1.0))
+        .fold(0.0, f32::max)
+}
