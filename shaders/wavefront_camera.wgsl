@@ -24,6 +24,7 @@
 #include "lib/shade_ambient.wgsl"
 #include "lib/path_primary.wgsl"
 #include "lib/path_light.wgsl"
+#include "lib/shade_one_path.wgsl"
 #include "lib/wavefront.wgsl"
 #include "lib/wavefront_vertex.wgsl"
 
@@ -57,29 +58,19 @@ fn shade(id: vec3<u32>) {
     }
     let p = shading_point(ray.triangle, ray.u, ray.v, ray.dir);
     textureStore(l0, pixel, vec4<f32>(p.emitted, 1.0));
-    let wo = -ray.dir;
-    if scene_max_depth >= 2u {
-        path.direct = direct_light(p, wo, source, DIM_DIRECT_SELECT, DIM_DIRECT_LIGHT);
-    }
-    // shade_direct.wgsl's MIS half and shade_indirect.wgsl's first bounce: one BSDF sample.
-    let for_direct = scene_max_depth >= 2u && samples_bsdf_for_light(p);
-    let for_indirect = scene_max_depth >= 3u && scene_light_count > 0u;
-    if for_direct || for_indirect {
-        let bs = point_sample(p, wo, sample_2d(source, DIM_BOUNCE), sample_1d(source, DIM_BOUNCE_LOBE));
-        if for_direct {
-            path.direct_weight = bs.weight;
-        }
-        if for_indirect {
-            path.throughput = bs.weight * russian_roulette(1u, bs.weight, source);
-        }
-        if any(path.direct_weight != vec3<f32>(0.0)) || any(path.throughput != vec3<f32>(0.0)) {
-            wavefront_continue(&path, p, bs, 2u);
-            paths[wavefront_slot(id.xy)] = path;
-            wavefront_queue(0u, wavefront_slot(id.xy));
-            return;
-        }
+    // The fused pass's start of a sample (lib/shade_one_path.wgsl): one BSDF sample for the
+    // direct channel's MIS half and the indirect channel's first bounce.
+    let b = primary_bounce(p, -ray.dir, source);
+    path.direct = b.direct;
+    if b.traced {
+        path.direct_weight = b.direct_weight;
+        path.throughput = b.weight;
+        wavefront_continue(&path, p, b.bs, 2u);
     }
     paths[wavefront_slot(id.xy)] = path;
+    if b.traced {
+        wavefront_queue(0u, wavefront_slot(id.xy));
+    }
 }
 
 @compute @workgroup_size(8, 8)
