@@ -48,15 +48,25 @@ impl BvhGrid {
         grid
     }
 
-    /// The grid cells of `[lo, hi]`, rounded outward (clamped to the grid).
+    /// The grid cells of `[lo, hi]`, rounded outward (clamped to the grid). A cell coordinate
+    /// is exact in f64 (a difference of two f32 times a power of two, the step's inverse: a
+    /// product, cheaper than the division). Clamping to the integer
+    /// ends first lets a truncation round it (floor and ceil commute with that clamp): x86-64's
+    /// baseline has no rounding instruction, and the libm calls were most of a snap.
     fn cells(&self, lo: Vec3, hi: Vec3) -> ([u32; 3], [u32; 3]) {
         let mut q = ([0u32; 3], [0u32; 3]);
         for k in 0..3 {
-            let cell =
-                |v: f32| (f64::from(v) - f64::from(self.origin[k])) / f64::from(self.step[k]);
-            let clamp = |c: f64| c.clamp(0.0, f64::from(QUANTA)) as u32;
-            q.0[k] = clamp(cell(lo[k]).floor());
-            q.1[k] = clamp(cell(hi[k]).ceil());
+            let per_step = 1.0 / f64::from(self.step[k]);
+            let cell = |v: f32| {
+                ((f64::from(v) - f64::from(self.origin[k])) * per_step)
+                    .clamp(0.0, f64::from(QUANTA))
+            };
+            // `as` maps NaN to 0, as the clamp and rounding of NaN did.
+            let low = cell(lo[k]);
+            q.0[k] = low as u32;
+            let high = cell(hi[k]);
+            let truncated = high as u32;
+            q.1[k] = truncated + u32::from(f64::from(truncated) < high);
         }
         q
     }
