@@ -582,26 +582,50 @@ impl Binning {
         }
     }
 
-    /// Clamped before the conversion (NaN, from an infinite centroid times a zero scale,
-    /// becomes 0: `f32::max` returns the number), so the conversion needs no saturation of its
-    /// own.
-    #[allow(
-        clippy::manual_clamp,
-        reason = "clamp keeps NaN; this maps it to bin 0"
-    )]
-    fn bin(&self, centroid: Vec3A, axis: usize) -> usize {
-        let scaled = (centroid[axis] - self.lo[axis]) * self.scale[axis];
-        to_bin(scaled.max(0.0).min(LAST_BIN))
-    }
-
-    /// [`Binning::bin`] along the three axes at once (the same products, lane by lane). A
-    /// vector `max` treats NaN as the SIMD unit does (SSE returns the second operand, NEON
-    /// NaN), so NaN is caught by a comparison instead, false for it everywhere.
+    /// Each centroid's bin along the three axes: `(c - lo) * scale` clamped to the bins, NaN
+    /// (from an infinite centroid times a zero scale) to bin 0. A vector `max` treats NaN as
+    /// the SIMD unit does (SSE returns the second operand, NEON NaN), so NaN is caught by a
+    /// comparison instead, false for it everywhere. Clamped before the conversion, so the
+    /// conversion needs no saturation of its own.
     fn bins(&self, centroid: Vec3A) -> [usize; 3] {
         let scaled = (centroid - self.lo) * self.scale;
         let positive = Vec3A::select(scaled.cmpge(Vec3A::ZERO), scaled, Vec3A::ZERO);
         let clamped = positive.min(Vec3A::splat(LAST_BIN));
         clamped.to_array().map(to_bin)
+    }
+}
+
+/// Whether a centroid's bin along one axis is at most a given bin, without computing the bin
+/// (see [`Binning::side_test`]).
+struct SideTest {
+    lo: Vec3A,
+    scale: Vec3A,
+    /// The bin after the last one on the left side, on every lane.
+    first_right: Vec3A,
+    axis_bit: u32,
+}
+
+impl SideTest {
+    fn goes_left(&self, centroid: Vec3A) -> bool {
+        let scaled = (centroid - self.lo) * self.scale;
+        scaled.cmpge(self.first_right).bitmask() & self.axis_bit == 0
+    }
+}
+
+impl Binning {
+    /// The test `bin(centroid, axis) <= bin` for `bin` below the last: a bin coordinate (the
+    /// same product as [`Binning::bins`]) truncates to at most `bin` exactly when it is below
+    /// `bin + 1`, and NaN and negative ones, bin 0, fail the comparison too. One comparison of
+    /// the three lanes replaces the clamp, the conversion and picking the axis's lane, which
+    /// went through memory: the partition's loop is the build's second-hottest.
+    fn side_test(&self, axis: usize, bin: usize) -> SideTest {
+        debug_assert!(bin < BINS - 1);
+        SideTest {
+            lo: self.lo,
+            scale: self.scale,
+            first_right: Vec3A::splat((bin + 1) as f32),
+            axis_bit: 1 << axis,
+        }
     }
 }
 
@@ -655,9 +679,10 @@ fn partition(
             // One pass moves the left side's items to the front and boxes both sides'
             // centroids; the sides' boxes are their bins'.
             let (mut mid, mut left_c, mut right_c) = (0, Bounds::EMPTY, Bounds::EMPTY);
+            let side = binning.side_test(split.axis, split.bin);
             for i in 0..count {
                 let c = items[i].centroid();
-                if binning.bin(c, split.axis) <= split.bin {
+                if side.goes_left(c) {
                     left_c.grow(c, c);
                     items.swap(mid, i);
                     mid += 1;
@@ -950,7 +975,8 @@ mod tests {
     }
 
     /// NaN (an overflowing centroid times a zero scale), infinities and values beyond the grid
-    /// go to the end bins, and the three-axis binning agrees with the one-axis one.
+    /// go to the end bins, and the partition's side test agrees with the bins, at and
+    /// beside every bin boundary too.
     #[test]
     fn nan_and_out_of_grid_centroids_bin_into_the_end_bins() {
         let binning = Binning {
@@ -969,8 +995,30 @@ mod tests {
         ];
         for (centroid, expected) in cases {
             assert_eq!(binning.bins(centroid), expected, "{centroid}");
-            let one_axis = [0, 1, 2].map(|axis| binning.bin(centroid, axis));
-            assert_eq!(one_axis, expected, "{centroid}");
+        }
+        let mut centroids: Vec<Vec3A> = cases.iter().map(|c| c.0).collect();
+        // Coordinates whose bin coordinate (y: (c + 1) * 4) is at, just below and just above
+        // each boundary, and random ones.
+        for b in 0..=BINS {
+            let at = b as f32 / 4.0 - 1.0;
+            for y in [at, at.next_down(), at.next_up()] {
+                centroids.push(Vec3A::new(0.0, y, 2.0));
+            }
+        }
+        let mut rng = Lcg(3);
+        centroids.extend((0..1000).map(|_| Vec3A::new(rng.next(), rng.next(), rng.next()) * 5.0));
+        for c in centroids {
+            let bins = binning.bins(c);
+            for axis in 0..3 {
+                for bin in 0..BINS - 1 {
+                    let side = binning.side_test(axis, bin);
+                    assert_eq!(
+                        side.goes_left(c),
+                        bins[axis] <= bin,
+                        "{c} axis {axis} bin {bin}"
+                    );
+                }
+            }
         }
     }
 
