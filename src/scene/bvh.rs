@@ -1009,14 +1009,10 @@ mod tests {
         centroids.extend((0..1000).map(|_| Vec3A::new(rng.next(), rng.next(), rng.next()) * 5.0));
         for c in centroids {
             let bins = binning.bins(c);
-            for axis in 0..3 {
+            for (axis, &at) in bins.iter().enumerate() {
                 for bin in 0..BINS - 1 {
                     let side = binning.side_test(axis, bin);
-                    assert_eq!(
-                        side.goes_left(c),
-                        bins[axis] <= bin,
-                        "{c} axis {axis} bin {bin}"
-                    );
+                    assert_eq!(side.goes_left(c), at <= bin, "{c} axis {axis} bin {bin}");
                 }
             }
         }
