@@ -93,6 +93,12 @@ impl Sides {
         self.above && self.below
     }
 
+    /// Whether these sides include every side of `could` (what a run's box allows it to
+    /// hold): then the run can add nothing.
+    fn covers(self, could: Sides) -> bool {
+        (self.above || !could.above) && (self.below || !could.below)
+    }
+
     fn of_points(t: &[Vec3; 3], points: &[Vec3]) -> Sides {
         let [a, b, c] = t.map(coord);
         let mut sides = Sides::default();
@@ -117,7 +123,7 @@ impl Sides {
                 could.add(robust::orient3d(a, b, c, coord(corner)));
             }
             tests += 8;
-            if !(could.above && !sides.above || could.below && !sides.below) {
+            if sides.covers(could) {
                 continue;
             }
             for p in run.vertices() {
@@ -126,8 +132,7 @@ impl Sides {
                 if sides.split() {
                     return (true, tests);
                 }
-                // Found what the run's box allows it to hold.
-                if (sides.above || !could.above) && (sides.below || !could.below) {
+                if sides.covers(could) {
                     break;
                 }
             }
