@@ -9,7 +9,7 @@ use passgraph::graph::shader_source::ShaderSource;
 use passgraph::scene::{
     Frame, GpuBvhGrid, GpuCamera, Material, PackedBvhNode, Triangle, TriangleShading,
 };
-use std::mem::{offset_of, size_of};
+use std::mem::{offset_of, size_of, size_of_val};
 
 /// (field name, byte offset, byte size) of each Rust field, in declaration order.
 macro_rules! fields {
@@ -152,4 +152,28 @@ fn gpu_structs_match_scene_wgsl_byte_for_byte() {
             .collect();
         assert_eq!(wgsl, fields, "{name}: fields (name, offset, size)");
     }
+}
+
+/// `render` reports the scene's GPU bytes from `byte_len`, which counts without building the
+/// buffers: it must be their lengths, on scenes with and without textures and shading data.
+#[test]
+fn scene_byte_len_is_the_sum_of_its_buffers() {
+    let mut seen_textures = false;
+    let mut seen_shading = false;
+    for scene in ["cornell", "materials", "outdoor"] {
+        let path = root().join("scenes").join(scene).join("scene.ron");
+        let gpu = passgraph::scene::load_scene(&path)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .to_gpu();
+        seen_textures |= !gpu.textures.is_empty();
+        seen_shading |= !gpu.shading.is_empty();
+        let built = size_of_val(gpu.triangles.as_slice())
+            + size_of_val(gpu.materials.as_slice())
+            + size_of_val(gpu.lights.as_slice())
+            + gpu.bvh_bytes().len()
+            + gpu.shading_bytes().len()
+            + gpu.textures_bytes().len();
+        assert_eq!(gpu.byte_len(), built, "{scene}");
+    }
+    assert!(seen_textures && seen_shading);
 }

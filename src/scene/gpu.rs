@@ -12,9 +12,10 @@ use super::intersect::{self, Hit, Ray};
 use super::lights::LIGHT_AREA;
 use super::lights::{Light, light_power, scene_lights};
 use super::mesh::{Mesh, MeshTriangle};
-use super::texture::{Texture, textures_bytes};
+use super::texture::{Texture, textures_byte_len, textures_bytes};
 use crate::material::{Material, NO_TEXTURE};
 use glam::Vec3;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// The materials some triangle uses (each once).
@@ -283,13 +284,39 @@ impl SceneGpu {
         textures_bytes(&self.textures)
     }
 
-    /// The `scene.bvh` buffer: the grid, then each node of each octant's copy as one texel.
+    /// The `scene.bvh` buffer: the grid, then each node of each octant's copy as one texel,
+    /// encoded in parallel (47 MB for a 1M-triangle mesh: 0.2 s on one thread).
     pub fn bvh_bytes(&self) -> Vec<u8> {
-        let mut bytes = bytemuck::bytes_of(&self.grid.to_gpu()).to_vec();
-        for node in &self.octant_nodes {
-            bytes.extend_from_slice(bytemuck::bytes_of(&self.grid.encode(node)));
-        }
+        let grid = self.grid.to_gpu();
+        let head = bytemuck::bytes_of(&grid);
+        let mut bytes = vec![0u8; self.bvh_byte_len()];
+        let (to_head, to_nodes) = bytes.split_at_mut(head.len());
+        to_head.copy_from_slice(head);
+        to_nodes
+            .par_chunks_mut(size_of::<PackedBvhNode>())
+            .with_min_len(4096)
+            .zip(&self.octant_nodes)
+            .for_each(|(to, node)| to.copy_from_slice(bytemuck::bytes_of(&self.grid.encode(node))));
         bytes
+    }
+
+    fn bvh_byte_len(&self) -> usize {
+        size_of::<GpuBvhGrid>() + size_of::<PackedBvhNode>() * self.octant_nodes.len()
+    }
+
+    /// The bytes of the scene's buffers (triangles, materials, lights, BVH, shading and
+    /// textures), counted without building them.
+    pub fn byte_len(&self) -> usize {
+        size_of_val(self.triangles.as_slice())
+            + size_of_val(self.materials.as_slice())
+            + size_of_val(self.lights.as_slice())
+            + self.bvh_byte_len()
+            + self.shading_byte_len()
+            + textures_byte_len(&self.textures)
+    }
+
+    fn shading_byte_len(&self) -> usize {
+        size_of_val(self.shading.as_slice()).max(16)
     }
 
     /// The nearest hit with t in (tmin, tmax), by the same traversal as `bvh.wgsl`.

@@ -266,6 +266,15 @@ impl Texture {
     }
 }
 
+/// The length of [`textures_bytes`], counted without building it.
+pub fn textures_byte_len(textures: &[Texture]) -> usize {
+    let texels: usize = textures
+        .iter()
+        .map(|t| size_of_val(t.texels.as_slice()))
+        .sum();
+    (16 * textures.len() + texels).max(16)
+}
+
 /// The `scene.textures` buffer: one header texel per texture (first texel, width, height, the
 /// lookup's [`Texture::mode_bits`]),
 /// then every texture's texels (linear RGBA f32, row 0 the image's top row). One zero texel

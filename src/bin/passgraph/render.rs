@@ -491,12 +491,7 @@ fn describe(render: &ImageRender) {
     let info = session.context().adapter_info();
     let scene = session.scene();
     let bvh = &scene.bvh;
-    let scene_bytes = size_of_val(scene.triangles.as_slice())
-        + size_of_val(scene.materials.as_slice())
-        + size_of_val(scene.lights.as_slice())
-        + scene.bvh_bytes().len()
-        + scene.shading_bytes().len()
-        + scene.textures_bytes().len();
+    let scene_bytes = scene.byte_len();
     eprintln!("adapter: {}", passgraph::gpu::context::describe(info));
     // The reuse pass groups lanes of a subgroup (shaders/path_reuse.wgsl): its width matters.
     if info.subgroup_max_size > 0 {
