@@ -86,5 +86,10 @@ pub fn normal_overflows(t: &MeshTriangle) -> bool {
 
 /// Splits a polygon into triangles `(v0, v[i], v[i + 1])`, as the references do.
 pub fn fan_triangulate<T: Copy>(polygon: &[T]) -> impl Iterator<Item = [T; 3]> + '_ {
-    (2..polygon.len()).map(move |i| [polygon[0], polygon[i - 1], polygon[i]])
+    fan_corners(polygon.len()).map(|c| c.map(|k| polygon[k]))
+}
+
+/// [`fan_triangulate`]'s triangles of a polygon of `count` corners, as corner indices.
+pub fn fan_corners(count: usize) -> impl Iterator<Item = [usize; 3]> {
+    (2..count).map(|i| [0, i - 1, i])
 }

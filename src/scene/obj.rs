@@ -213,15 +213,9 @@ fn syntax(path: &Path, line: usize, message: impl Into<String>) -> SceneError {
 /// on one thread the check took 0.6 s of a 1M-triangle file's 2.4 s start-up.
 const PIECE_BYTES: usize = 1 << 20;
 
-/// Whole lines of the OBJ text, the first of them line `first_line` (1-based).
-struct Piece<'a> {
-    text: &'a str,
-    first_line: usize,
-}
-
 /// The text cut after the first line end at or past every `size` bytes (bytes, not chars: a
-/// cut follows a `\n`, so it is a char boundary whatever the text).
-fn pieces(text: &str, size: usize) -> Vec<Piece<'_>> {
+/// cut follows a `\n`, so it is a char boundary whatever the text): pieces of whole lines.
+fn pieces(text: &str, size: usize) -> Vec<&str> {
     let mut cuts = vec![0];
     let mut at = 0;
     while text.len() - at > size {
@@ -235,27 +229,14 @@ fn pieces(text: &str, size: usize) -> Vec<Piece<'_>> {
         cuts.push(at);
     }
     cuts.push(text.len());
-    let texts: Vec<&str> = cuts.windows(2).map(|w| &text[w[0]..w[1]]).collect();
-    let line_ends: Vec<usize> = texts
-        .par_iter()
-        .map(|t| t.bytes().filter(|&b| b == b'\n').count())
-        .collect();
-    let mut first_line = 1;
-    texts
-        .into_iter()
-        .zip(line_ends)
-        .map(|(text, ends)| {
-            let piece = Piece { text, first_line };
-            first_line += ends;
-            piece
-        })
-        .collect()
+    cuts.windows(2).map(|w| &text[w[0]..w[1]]).collect()
 }
 
-/// How many vertices, texture coordinates and normals lines define: what the faces after them
-/// may index.
+/// How many lines there are, and how many vertices, texture coordinates and normals they
+/// define: what the faces after them may index.
 #[derive(Clone, Copy, Default)]
 struct Defined {
+    lines: usize,
     vertices: usize,
     texcoords: usize,
     normals: usize,
@@ -265,6 +246,7 @@ impl Defined {
     fn of(text: &str) -> Defined {
         let mut defined = Defined::default();
         for line in text.lines() {
+            defined.lines += 1;
             match split_keyword(line) {
                 Some(("v", _)) => defined.vertices += 1,
                 Some(("vt", _)) => defined.texcoords += 1,
@@ -277,6 +259,7 @@ impl Defined {
 
     fn add(self, other: Defined) -> Defined {
         Defined {
+            lines: self.lines + other.lines,
             vertices: self.vertices + other.vertices,
             texcoords: self.texcoords + other.texcoords,
             normals: self.normals + other.normals,
@@ -302,15 +285,15 @@ struct CheckedPiece<'a> {
 /// checked: a line before this piece that fails is an earlier error, reported instead).
 fn check_piece<'a>(
     path: &Path,
-    piece: &Piece<'a>,
+    piece: &'a str,
     before: Defined,
     materials: bool,
 ) -> CheckedPiece<'a> {
     let mut checked = CheckedPiece::default();
-    checked.normalized.text.reserve(piece.text.len());
+    checked.normalized.text.reserve(piece.len());
     let mut vertices = before.vertices;
-    for (index, line) in piece.text.lines().enumerate() {
-        let number = piece.first_line + index;
+    for (index, line) in piece.lines().enumerate() {
+        let number = before.lines + index + 1;
         if let Err(error) = check_line(
             path,
             number,
@@ -427,7 +410,7 @@ fn check_obj_in_pieces(
     piece_bytes: usize,
 ) -> Result<CheckedObj, SceneError> {
     let pieces = pieces(text, piece_bytes);
-    let defined: Vec<Defined> = pieces.par_iter().map(|p| Defined::of(p.text)).collect();
+    let defined: Vec<Defined> = pieces.par_iter().map(|p| Defined::of(p)).collect();
     let before: Vec<Defined> = defined
         .iter()
         .scan(Defined::default(), |sum, &d| {
@@ -439,7 +422,7 @@ fn check_obj_in_pieces(
     let mut checked: Vec<CheckedPiece> = pieces
         .par_iter()
         .zip(before)
-        .map(|(piece, before)| check_piece(path, piece, before, materials))
+        .map(|(&piece, before)| check_piece(path, piece, before, materials))
         .collect();
     let first_error = checked.iter().find_map(|c| c.error.as_ref().map(|e| e.0));
 
@@ -1091,7 +1074,7 @@ fn load_checked(path: &Path, checked: CheckedObj) -> Result<Mesh, SceneError> {
                 Some(at) => piece.corners[at.start + k],
                 None => (None, None),
             };
-            (2..face.count).map(move |k| (face.line, [corner(0), corner(k - 1), corner(k)]))
+            crate::scene::mesh::fan_corners(face.count).map(move |t| (face.line, t.map(corner)))
         })
     });
     let mut zero_normals: Vec<usize> = Vec::new();
