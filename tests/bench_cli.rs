@@ -194,14 +194,26 @@ fn bench_takes_per_variant_params_labelled_mitsuba_curves_and_combines_rounds() 
         "{report}"
     );
     assert!(report.contains("| Mitsuba best | – | 0.14 |"), "{report}");
-    // A ratio table per Mitsuba curve, in the order given.
-    let ratio_independent = report
-        .find("relMSE(variant) / relMSE(Mitsuba independent) at equal time")
+    // The race: passgraph's best variant against Mitsuba's best curve at each time, then
+    // every variant against Mitsuba's best.
+    let race = report
+        .find("The race at equal time: the lowest relMSE of passgraph's variants")
         .expect(&report);
-    let ratio_best = report
-        .find("relMSE(variant) / relMSE(Mitsuba best) at equal time")
+    let ratios = report
+        .find("relMSE(variant) / the lowest relMSE of Mitsuba's curves at equal time")
         .expect(&report);
-    assert!(ratio_independent < ratio_best);
+    assert!(race < ratios);
+    for row in [
+        "| passgraph, best |",
+        "| Mitsuba, best |",
+        "| ratio (below 1: passgraph ahead) |",
+    ] {
+        assert!(report[race..ratios].contains(row), "{report}");
+    }
+    assert!(
+        report[ratios..].contains("| pcg |"),
+        "every variant has a ratio row: {report}"
+    );
     assert!(
         out.join("pathtracer:intersect.sample_index_restarts=true.csv")
             .exists()

@@ -122,3 +122,40 @@ fn a_phong_material_is_an_error_naming_it() {
     // Nothing is written for a scene that cannot be exported.
     assert!(!out.join("scene.xml").exists());
 }
+
+/// The race gives Mitsuba its default Russian roulette as well as none (scripts/benchmarks):
+/// the exported scene takes `rr_depth` as a parameter whose default is the passgraph scene's,
+/// and passgraph reads both back as written.
+#[test]
+fn russian_roulette_is_a_parameter_defaulting_to_the_scenes() {
+    let out = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell/scene.ron");
+    let result = export(&scene, out.path(), &["--size", "16x16", "--max-depth", "8"]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let xml = out.path().join("scene.xml");
+    let text = std::fs::read_to_string(&xml).unwrap();
+    assert!(
+        text.contains("<integer name=\"rr_depth\" value=\"$rr_depth\"/>"),
+        "{text}"
+    );
+    let load = |defines: Vec<(String, String)>| {
+        let options = passgraph::scene::SceneOptions {
+            defines,
+            ..Default::default()
+        };
+        passgraph::scene::load_scene_with(&xml, &options)
+            .unwrap()
+            .scene
+    };
+    // The Cornell box has no roulette, so neither has its export...
+    assert_eq!(passgraph::scene::load_scene(&scene).unwrap().rr_depth, None);
+    let exported = load(Vec::new());
+    assert_eq!((exported.max_depth, exported.rr_depth), (8, None));
+    // ... until Mitsuba's default is asked for.
+    let with_roulette = load(vec![("rr_depth".into(), "5".into())]);
+    assert_eq!(with_roulette.rr_depth, Some(5));
+}

@@ -136,6 +136,7 @@ fn combine_runs(runs: &[&Run]) -> Run {
         rays_per_frame: median(runs.iter().filter_map(|r| r.rays_per_frame).collect()),
         cpu_ms_per_frame: median(runs.iter().map(|r| r.cpu_ms_per_frame).collect()).unwrap_or(0.0),
         dropped: runs.iter().map(|r| r.dropped).max().unwrap_or(0),
+        estimate: runs.iter().all(|r| r.estimate),
     }
 }
 
@@ -165,6 +166,7 @@ mod tests {
             rays_per_frame: Some(4.0),
             cpu_ms_per_frame: seconds_of(points),
             dropped: 0,
+            estimate: true,
         }
     }
 

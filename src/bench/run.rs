@@ -41,6 +41,16 @@ pub struct Run {
     /// CPU milliseconds per frame to record and submit it (the GPU works meanwhile).
     pub cpu_ms_per_frame: f64,
     pub dropped: u32,
+    /// Whether the compared image is the renderer's estimate of the scene's channels. A
+    /// graph's output texture (a denoiser's) is not: the report shows it, but does not count it
+    /// as passgraph's best in the race.
+    #[serde(default = "estimate_by_default")]
+    pub estimate: bool,
+}
+
+/// Runs files written before `estimate` was recorded count as estimates.
+fn estimate_by_default() -> bool {
+    true
 }
 
 impl Run {
@@ -134,5 +144,6 @@ pub fn run(
         cpu_ms_per_frame: submitting.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
         dropped: session.dropped()?,
         checkpoints,
+        estimate: matches!(channels, ChannelSelection::Planes(_)),
     })
 }

@@ -102,6 +102,16 @@ impl Series {
     }
 }
 
+/// The lowest relMSE that any of `series` reaches at `seconds` (each read as `relmse_at`), with
+/// the curve that reaches it: the best of several configurations at each time. `None` if no
+/// curve spans that time.
+pub fn best_at<'a>(series: &[&'a Series], seconds: f64) -> Option<(f64, &'a Series)> {
+    series
+        .iter()
+        .filter_map(|s| Some((s.relmse_at(seconds)?, *s)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 /// The longest time a curve's point may have (11.6 days): beyond any benchmark.
 const MAX_SECONDS: f64 = 1e6;
 /// The largest error a point may have: beyond any image's.
@@ -205,6 +215,28 @@ mod tests {
         assert!((s.seconds_to(1e-3).unwrap() - 10.0).abs() < 1e-9);
         assert_eq!(s.relmse_at(1000.0), None);
         assert_eq!(s.seconds_to(1e-5), None);
+    }
+
+    #[test]
+    fn the_best_at_a_time_is_the_lowest_curve_there_among_those_spanning_it() {
+        // Two curves crossing at 4 s, and one that ends early.
+        let mut fast_start = series(&[(1.0, 1e-2), (16.0, 1e-3)]);
+        fast_start.label = "fast start".into();
+        let mut steep = series(&[(1.0, 4e-2), (16.0, 1e-4)]);
+        steep.label = "steep".into();
+        let mut short = series(&[(0.5, 3e-2), (1.0, 2e-2)]);
+        short.label = "short".into();
+        let all = [&fast_start, &steep, &short];
+        let best =
+            |t| best_at(&all, t).map(|(relmse, s)| (format!("{relmse:.3e}"), s.label.as_str()));
+        assert_eq!(best(1.0), Some(("1.000e-2".into(), "fast start")));
+        assert_eq!(best(16.0), Some(("1.000e-4".into(), "steep")));
+        // Only the short curve spans 0.5 s; none spans 32 s.
+        assert_eq!(best(0.5), Some(("3.000e-2".into(), "short")));
+        assert_eq!(best(32.0), None);
+        let (at_8, curve) = best_at(&all, 8.0).unwrap();
+        assert_eq!(curve.label, "steep");
+        assert!(at_8 < fast_start.relmse_at(8.0).unwrap());
     }
 
     #[test]

@@ -262,9 +262,12 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
         i64::from(depth)
     };
     let (rr_comment, rr_depth) = match scene.rr_depth {
-        Some(rr) => ("Russian roulette as the passgraph scene's rr_depth.", rr),
+        Some(rr) => (
+            "Russian roulette as the passgraph scene's rr_depth (-D rr_depth=N changes it).",
+            rr,
+        ),
         None => (
-            "No Russian roulette, as the passgraph scene.",
+            "No Russian roulette, as the passgraph scene (-D rr_depth=5: Mitsuba's default).",
             MAX_MAX_DEPTH,
         ),
     };
@@ -276,10 +279,11 @@ fn scene_xml(scene: &Scene, options: &ExportOptions, shapes: &str) -> String {
     <default name="sampler_type" value="independent"/>
     <default name="max_depth" value="{depth}"/>
     <default name="seed" value="0"/>
+    <!-- {rr_comment} -->
+    <default name="rr_depth" value="{rr_depth}"/>
     <integrator type="path">
         <integer name="max_depth" value="$max_depth"/>
-        <!-- {rr_comment} -->
-        <integer name="rr_depth" value="{rr_depth}"/>
+        <integer name="rr_depth" value="$rr_depth"/>
     </integrator>
     <sensor type="{sensor}">
 {projection}        <transform name="to_world">
@@ -937,7 +941,8 @@ mod tests {
                 "<default name=\"spp\" value=\"4\"/>",
                 "<default name=\"max_depth\" value=\"8\"/>",
                 "<sampler type=\"$sampler_type\">",
-                "name=\"rr_depth\" value=\"2147483647\"",
+                "<default name=\"rr_depth\" value=\"2147483647\"/>",
+                "<integer name=\"rr_depth\" value=\"$rr_depth\"/>",
                 "<lookat origin=\"0, 0, 1\" target=\"0, 0, 0\" up=\"0, 1, 0\"/>",
                 "name=\"fov\" value=\"40\"",
                 "name=\"width\" value=\"64\"",
