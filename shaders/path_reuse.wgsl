@@ -196,7 +196,7 @@ fn main(
                 continue;
             }
             let x2 = shading_point(hit.triangle, hit.u, hit.v, bs.wi);
-            let l = path_light(x2, bs.wi, sample_split(source, b, j), bs.weight);
+            let l = path_light(x2, bs.wi, sample_split(source, b, j), roulette_odds(bs.weight, bs));
             if !bs.delta && reuse_shareable(x2) {
                 second[j] = vec4<f32>(x2.s.p, 1.0);
                 normal[j] = x2.s.n;

@@ -65,6 +65,7 @@ fn shade(id: vec3<u32>) {
     if b.traced {
         path.direct_weight = b.direct_weight;
         path.throughput = b.weight;
+        path.eta2 = b.bs.eta * b.bs.eta;
         wavefront_continue(&path, p, b.bs, 2u);
     }
     paths[wavefront_slot(id.xy)] = path;

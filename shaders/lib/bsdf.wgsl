@@ -49,6 +49,10 @@ struct BsdfSample {
     weight: vec3<f32>,
     pdf: f32,
     delta: bool,
+    // The relative index of refraction across the sample, eta_t / eta_i: above 1 entering a
+    // denser medium, 1 for a reflection (Mitsuba's BSDFSample3f::eta). A refraction's weight
+    // carries radiance's 1 / eta^2; Russian roulette takes it back out (path_light.wgsl).
+    eta: f32,
 }
 
 fn bsdf_from_material(m: Material) -> Bsdf {

@@ -74,7 +74,7 @@ fn bsdf_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32>
     if scene_has_kind(MATERIAL_PHONG) && b.kind == MATERIAL_PHONG {
         return phong_sample(b, n, outside, wo, u, u_lobe);
     }
-    var s = BsdfSample(n, vec3<f32>(0.0), 0.0, false);
+    var s = BsdfSample(n, vec3<f32>(0.0), 0.0, false, 1.0);
     let frame = bsdf_frame(n);
     if scene_has_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR {
         s = conductor_sample(b, outside, wo * frame, u, u_lobe);

@@ -28,7 +28,7 @@ struct PrimaryBounce {
 
 fn primary_bounce(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> PrimaryBounce {
     let none = vec3<f32>(0.0);
-    var b = PrimaryBounce(none, BsdfSample(none, none, 0.0, false), none, none, false);
+    var b = PrimaryBounce(none, BsdfSample(none, none, 0.0, false, 1.0), none, none, false);
     if scene_max_depth >= 2u {
         b.direct = direct_light(p, wo, source, DIM_DIRECT_SELECT, DIM_DIRECT_LIGHT);
     }
@@ -42,7 +42,7 @@ fn primary_bounce(p: ShadingPoint, wo: vec3<f32>, source: SampleSource) -> Prima
         b.direct_weight = b.bs.weight;
     }
     if for_indirect {
-        b.weight = b.bs.weight * russian_roulette(1u, b.bs.weight, source);
+        b.weight = b.bs.weight * russian_roulette(1u, roulette_odds(b.bs.weight, b.bs), source);
     }
     b.traced = any(b.direct_weight != none) || any(b.weight != none);
     return b;
@@ -73,7 +73,7 @@ fn shade_one_path(ray: Primary, source: SampleSource) -> PathSample {
     }
     var indirect = none;
     if any(b.weight != none) {
-        indirect = b.weight * path_light(x, b.bs.wi, source, b.weight);
+        indirect = b.weight * path_light(x, b.bs.wi, source, roulette_odds(b.weight, b.bs));
     }
     return PathSample(p.emitted, direct, indirect);
 }

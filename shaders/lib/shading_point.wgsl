@@ -79,7 +79,7 @@ fn point_sample(p: ShadingPoint, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> Bs
     var lobe = u_lobe;
     if scene_has_null_masks && p.opacity < 1.0 {
         if u_lobe >= p.opacity {
-            return BsdfSample(-wo, vec3<f32>(1.0), 1.0 - p.opacity, true);
+            return BsdfSample(-wo, vec3<f32>(1.0), 1.0 - p.opacity, true, 1.0);
         }
         // The rest of u_lobe's interval picks the BSDF's lobe.
         lobe = u_lobe / p.opacity;

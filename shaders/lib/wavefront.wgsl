@@ -60,6 +60,9 @@ struct WavefrontPath {
     // The channels' sums so far: direct (next-event estimation at the primary hit, then the
     // BSDF half) and indirect.
     direct: vec3<f32>,
+    // The squared relative index of the path's refractions so far (Russian roulette's odds:
+    // path_light.wgsl).
+    eta2: f32,
     indirect: vec3<f32>,
 }
 

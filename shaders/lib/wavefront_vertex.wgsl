@@ -30,7 +30,7 @@ fn wavefront_continue(path: ptr<function, WavefrontPath>, p: ShadingPoint, bs: B
 // whether the path goes on, its next ray then in the record.
 fn wavefront_vertex(path: ptr<function, WavefrontPath>, source: SampleSource) -> bool {
     let segment = (*path).flags >> WAVEFRONT_SEGMENT_SHIFT;
-    let bs = BsdfSample((*path).dir, vec3<f32>(0.0), (*path).pdf, ((*path).flags & WAVEFRONT_DELTA) != 0u);
+    let bs = BsdfSample((*path).dir, vec3<f32>(0.0), (*path).pdf, ((*path).flags & WAVEFRONT_DELTA) != 0u, 1.0);
     let throughput = (*path).throughput;
     let direct_weight = (*path).direct_weight;
     // The first bounce's light is the direct channel's (emission met by the first bounce: L1);
@@ -75,12 +75,14 @@ fn wavefront_vertex(path: ptr<function, WavefrontPath>, source: SampleSource) ->
         return false;
     }
     var t = throughput * next.weight;
+    let eta2 = (*path).eta2 * next.eta * next.eta;
     // The BSDF sample at x is the path's segment-th (the primary hit's was the first).
-    t *= russian_roulette(segment, t, source);
+    t *= russian_roulette(segment, t * eta2, source);
     if all(t == vec3<f32>(0.0)) {
         return false;
     }
     (*path).throughput = t;
+    (*path).eta2 = eta2;
     (*path).direct_weight = vec3<f32>(0.0);
     wavefront_continue(path, x, next, depth);
     return true;

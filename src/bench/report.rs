@@ -218,7 +218,6 @@ mod tests {
     use super::*;
     use crate::bench::metrics::ImageError;
     use crate::bench::run::Checkpoint;
-    use crate::bench::series::Point;
 
     fn run(label: &str, estimate: bool, points: &[(f64, f64)]) -> Run {
         Run {
@@ -247,20 +246,6 @@ mod tests {
         }
     }
 
-    fn curve(label: &str, points: &[(f64, f64)]) -> Series {
-        Series {
-            label: label.into(),
-            points: points
-                .iter()
-                .map(|&(seconds, relmse)| Point {
-                    seconds,
-                    rmse: relmse.sqrt(),
-                    relmse,
-                })
-                .collect(),
-        }
-    }
-
     fn row<'a>(md: &'a str, name: &str) -> Vec<&'a str> {
         let line = md
             .lines()
@@ -283,8 +268,8 @@ mod tests {
             run("denoised", false, &[(2.0, 1e-4), (8.0, 1e-5)]),
         ];
         let mitsuba = [
-            curve("mj", &[(2.0, 2e-3), (8.0, 5e-4)]),
-            curve("rr", &[(2.0, 4e-3), (8.0, 2.5e-4)]),
+            Series::of_relmse("mj", &[(2.0, 2e-3), (8.0, 5e-4)]),
+            Series::of_relmse("rr", &[(2.0, 4e-3), (8.0, 2.5e-4)]),
         ];
         let md = markdown(&runs, &mitsuba);
         // Columns: 0.5, 1, 2, 4, 8, 16 s.

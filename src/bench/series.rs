@@ -102,6 +102,24 @@ impl Series {
     }
 }
 
+#[cfg(test)]
+impl Series {
+    /// A curve through (seconds, relMSE) points, for tests.
+    pub(crate) fn of_relmse(label: &str, points: &[(f64, f64)]) -> Series {
+        Series {
+            label: label.into(),
+            points: points
+                .iter()
+                .map(|&(seconds, relmse)| Point {
+                    seconds,
+                    rmse: relmse.sqrt(),
+                    relmse,
+                })
+                .collect(),
+        }
+    }
+}
+
 /// The lowest relMSE that any of `series` reaches at `seconds` (each read as `relmse_at`), with
 /// the curve that reaches it: the best of several configurations at each time. `None` if no
 /// curve spans that time.
@@ -195,17 +213,7 @@ mod tests {
     use super::*;
 
     fn series(points: &[(f64, f64)]) -> Series {
-        Series {
-            label: "s".into(),
-            points: points
-                .iter()
-                .map(|&(seconds, relmse)| Point {
-                    seconds,
-                    rmse: relmse.sqrt(),
-                    relmse,
-                })
-                .collect(),
-        }
+        Series::of_relmse("s", points)
     }
 
     #[test]

@@ -41,23 +41,23 @@ fn conductor_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
 fn conductor_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
     -> BsdfSample {
     if wo.z <= 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     if b.alpha == 0.0 {
         // The delta lobe is chosen with probability 1.
         return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), conductor_reflectance(b, wo.z), 1.0,
-            true);
+            true, 1.0);
     }
     let a = microfacet_alpha(b.alpha);
     let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let wi = 2.0 * dot(wo, m) * m - wo;
     let pdf = conductor_pdf(b, outside, wo, wi);
     if pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
     // f cos / pdf = F kd G1(wi, m): D and G1(wo, m) cancel.
     let weight = conductor_reflectance(b, dot(wo, m)) * microfacet_g1(b.distribution, a, wi, m);
-    return BsdfSample(wi, weight, pdf, false);
+    return BsdfSample(wi, weight, pdf, false, 1.0);
 }
 
 // The smooth mirror is delta.

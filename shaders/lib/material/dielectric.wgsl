@@ -65,35 +65,37 @@ fn dielectric_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe
     -> BsdfSample {
     let eta = dielectric_eta(b, outside);
     if wo.z == 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     if b.alpha == 0.0 {
         let fr = fresnel_dielectric(wo.z, eta);
         if u_lobe <= fr.r {
-            return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), vec3<f32>(1.0), fr.r, true);
+            return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), vec3<f32>(1.0), fr.r, true, 1.0);
         }
         let wi = vec3<f32>(-fr.eta_ti * wo.x, -fr.eta_ti * wo.y, fr.cos_t);
-        return BsdfSample(wi, b.tf * (fr.eta_ti * fr.eta_ti), 1.0 - fr.r, true);
+        return BsdfSample(wi, b.tf * (fr.eta_ti * fr.eta_ti), 1.0 - fr.r, true, fr.eta_it);
     }
     let a = microfacet_alpha(b.alpha);
     let m = microfacet_sample_visible(b.distribution, a, wo, u);
     let fr = fresnel_dielectric(dot(wo, m), eta);
     var wi: vec3<f32>;
     var weight: vec3<f32>;
+    var eta_sampled = 1.0;
     if u_lobe <= fr.r {
         wi = 2.0 * dot(wo, m) * m - wo;
         weight = vec3<f32>(1.0);
     } else {
         wi = m * (dot(wo, m) * fr.eta_ti + fr.cos_t) - wo * fr.eta_ti;
         weight = b.tf * (fr.eta_ti * fr.eta_ti);
+        eta_sampled = fr.eta_it;
     }
     // f cos / pdf = tint G1(wi, m), which is 0 when wi left for the wrong side: a failed sample.
     let g = microfacet_g1(b.distribution, a, wi, m);
     let pdf = dielectric_pdf(b, outside, wo, wi);
     if g <= 0.0 || pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
-    return BsdfSample(wi, weight * g, pdf, false);
+    return BsdfSample(wi, weight * g, pdf, false, eta_sampled);
 }
 
 // The smooth interface is delta.

@@ -23,10 +23,10 @@ fn lambert_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f
     let wi = sample_cosine(n, u.x, u.y);
     let pdf = lambert_pdf(b, n, outside, wo, wi);
     if pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
     // f cos / pdf: the cosines and pi cancel.
-    return BsdfSample(wi, b.kd, pdf, false);
+    return BsdfSample(wi, b.kd, pdf, false, 1.0);
 }
 
 fn lambert_is_delta(b: Bsdf) -> bool {

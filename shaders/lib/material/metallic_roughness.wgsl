@@ -130,12 +130,12 @@ fn metallic_roughness_pdf(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) 
 fn metallic_roughness_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>,
     u_lobe: f32) -> BsdfSample {
     if wo.z <= 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     let p_s = mr_specular_probability(b, wo);
     if b.alpha == 0.0 && u_lobe < p_s {
         return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), mr_specular_fresnel(b, wo.z) / p_s, p_s,
-            true);
+            true, 1.0);
     }
     var wi: vec3<f32>;
     if u_lobe < p_s {
@@ -146,9 +146,9 @@ fn metallic_roughness_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>
     }
     let pdf = metallic_roughness_pdf(b, outside, wo, wi);
     if wi.z <= 0.0 || pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
-    return BsdfSample(wi, metallic_roughness_eval(b, outside, wo, wi) / pdf, pdf, false);
+    return BsdfSample(wi, metallic_roughness_eval(b, outside, wo, wi) / pdf, pdf, false, 1.0);
 }
 
 // The diffuse base is never delta.

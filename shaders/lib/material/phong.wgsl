@@ -22,9 +22,9 @@ fn phong_sample(b: Bsdf, n: vec3<f32>, outside: bool, wo: vec3<f32>, u: vec2<f32
     let wi = sample_cosine(n, u.x, u.y);
     let pdf = lambert_pdf(b, n, outside, wo, wi);
     if pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
-    return BsdfSample(wi, phong_eval(b, n, outside, wo, wi) / pdf, pdf, false);
+    return BsdfSample(wi, phong_eval(b, n, outside, wo, wi) / pdf, pdf, false, 1.0);
 }
 
 fn phong_is_delta(b: Bsdf) -> bool {

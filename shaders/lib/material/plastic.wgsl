@@ -62,19 +62,19 @@ fn plastic_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f
         return rough_plastic_sample(b, wo, u, u_lobe);
     }
     if wo.z <= 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     let f_o = fresnel_dielectric(wo.z, b.ior).r;
     let p_s = plastic_specular_probability(b, f_o);
     if u_lobe < p_s {
-        return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), b.ks * (f_o / p_s), p_s, true);
+        return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), b.ks * (f_o / p_s), p_s, true, 1.0);
     }
     let wi = sample_cosine(vec3<f32>(0.0, 0.0, 1.0), u.x, u.y);
     let pdf = (1.0 - p_s) * (wi.z / PI);
     if wi.z <= 0.0 || pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
-    return BsdfSample(wi, plastic_diffuse(b, wo.z, wi.z) / pdf, pdf, false);
+    return BsdfSample(wi, plastic_diffuse(b, wo.z, wi.z) / pdf, pdf, false, 1.0);
 }
 
 // Entry j of the rough coat's transmittance table.
@@ -136,7 +136,7 @@ fn rough_plastic_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
 // base is sampled by the cosine; either way the pdf is the mixture's.
 fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample {
     if wo.z <= 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     let p_s = plastic_specular_probability(b, 1.0 - rough_plastic_transmittance(b, wo.z));
     var wi: vec3<f32>;
@@ -148,9 +148,9 @@ fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> Bs
     }
     let pdf = rough_plastic_pdf(b, wo, wi);
     if wi.z <= 0.0 || pdf <= 0.0 {
-        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0, false, 1.0);
     }
-    return BsdfSample(wi, rough_plastic_eval(b, wo, wi) / pdf, pdf, false);
+    return BsdfSample(wi, rough_plastic_eval(b, wo, wi) / pdf, pdf, false, 1.0);
 }
 
 // The diffuse base is never delta.

@@ -14,13 +14,13 @@ fn thin_dielectric_reflectance(b: Bsdf, cos: f32) -> f32 {
 fn thin_dielectric_sample(b: Bsdf, outside: bool, wo: vec3<f32>, u: vec2<f32>, u_lobe: f32)
     -> BsdfSample {
     if wo.z <= 0.0 {
-        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+        return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
     }
     let r = thin_dielectric_reflectance(b, wo.z);
     if u_lobe < r {
-        return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), vec3<f32>(1.0), r, true);
+        return BsdfSample(vec3<f32>(-wo.x, -wo.y, wo.z), vec3<f32>(1.0), r, true, 1.0);
     }
-    return BsdfSample(-wo, b.tf, 1.0 - r, true);
+    return BsdfSample(-wo, b.tf, 1.0 - r, true, 1.0);
 }
 
 fn thin_dielectric_eval(b: Bsdf, outside: bool, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
