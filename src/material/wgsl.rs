@@ -102,7 +102,7 @@ pub fn models_wgsl(models: &[Model]) -> String {
         )
         .unwrap();
     }
-    s.push_str("    var s = BsdfSample(n, vec3<f32>(0.0), 0.0, false);\n");
+    s.push_str("    var s = BsdfSample(n, vec3<f32>(0.0), 0.0, false, 1.0);\n");
     if !local.is_empty() {
         s.push_str("    let frame = bsdf_frame(n);\n");
         for (i, m) in local.iter().enumerate() {
