@@ -144,10 +144,10 @@ pub fn markdown(runs: &[Run], extra: &[Series]) -> String {
 }
 
 /// The race at equal times: passgraph's best estimate against the best extra series (Mitsuba's
-/// configurations, from `bench --mitsuba`), each the
-/// lowest relMSE at that time (so a configuration that is best early and another that is best
-/// late both count), then every run against that best. Runs that compare something other than
-/// the renderer's estimate (a denoiser's output) are in the second table only.
+/// configurations, from `bench --mitsuba`), each the lowest relMSE at that time (so a
+/// configuration that is best early and another that is best late both count), then every run
+/// against that best. Runs that compare something other than the renderer's estimate (a
+/// denoiser's output) are in the second table only.
 fn race(out: &mut String, runs: &[Run], extra: &[Series]) {
     let times = EQUAL_TIMES;
     let header = |out: &mut String| {
