@@ -46,7 +46,9 @@
 // aligned runs of `reuse_pixels` lanes of a subgroup (rounded down to a power of two, at most
 // the subgroup); the invocations are laid out so that, on lavapipe's subgroups of 8
 // consecutive invocations, a group of 8 is a 4x2 block of pixels and one of 4 a 2x2 block
-// (elsewhere the groups are other neighbours, the estimate as unbiased).
+// (elsewhere the groups are other neighbours, the estimate as unbiased). Nothing depends on
+// the subgroup being 8 lanes wide: lavapipe forced to 16 renders the same image bit for bit
+// (tests/reuse_subgroup_width.rs).
 //
 // Same channels and expectation as path.wgsl; the measured speed against error:
 // docs/benchmark-history.md.
