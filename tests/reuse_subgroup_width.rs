@@ -71,7 +71,13 @@ fn same_image_at_every_subgroup_width(args: &[&str]) {
             );
         }
         match &first {
-            None => first = Some((subgroups, image)),
+            None => {
+                assert!(
+                    image.mean().iter().all(|&m| m > 0.0),
+                    "a black image proves nothing ({args:?})"
+                );
+                first = Some((subgroups, image));
+            }
             Some((first_subgroups, first_image)) => {
                 assert_eq!(image.pixels.len(), first_image.pixels.len());
                 let differing = image
