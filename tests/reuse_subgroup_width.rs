@@ -16,6 +16,7 @@
 
 mod common;
 
+use common::render::differing_pixels;
 use common::root;
 use passgraph::render::image::RgbImage;
 use std::process::Command;
@@ -79,13 +80,7 @@ fn same_image_at_every_subgroup_width(args: &[&str]) {
                 first = Some((subgroups, image));
             }
             Some((first_subgroups, first_image)) => {
-                assert_eq!(image.pixels.len(), first_image.pixels.len());
-                let differing = image
-                    .pixels
-                    .iter()
-                    .zip(&first_image.pixels)
-                    .filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits))
-                    .count();
+                let differing = differing_pixels(&image, first_image);
                 assert_eq!(
                     differing,
                     0,

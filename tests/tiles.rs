@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::render::settings;
+use common::render::{differing_pixels, settings};
 use common::{Scratch, assert_mentions, root};
 use passgraph::render::channels::ChannelSelection;
 use passgraph::render::image::RgbImage;
@@ -53,12 +53,7 @@ fn assert_bitwise_equal(graph: &str, tiles: &[[u32; 2]], first: u32) {
     );
     for &tile in tiles {
         let (tiled, tiled_dropped, tiled_rays) = render(graph, Some(tile), first, 2);
-        let differing = whole
-            .pixels
-            .iter()
-            .zip(&tiled.pixels)
-            .filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits))
-            .count();
+        let differing = differing_pixels(&whole, &tiled);
         assert_eq!(differing, 0, "{graph}, {tile:?} tiles: pixels differ");
         assert_eq!((tiled_dropped, tiled_rays), (dropped, rays), "{graph}");
     }

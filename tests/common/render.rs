@@ -68,6 +68,16 @@ pub fn mean(img: &RgbImage) -> f64 {
     (m[0] + m[1] + m[2]) / 3.0
 }
 
+/// How many pixels of two images of one size differ in any bit.
+pub fn differing_pixels(a: &RgbImage, b: &RgbImage) -> usize {
+    assert_eq!(a.pixels.len(), b.pixels.len(), "images of different sizes");
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(x, y)| x.map(f32::to_bits) != y.map(f32::to_bits))
+        .count()
+}
+
 /// The largest difference between two images, relative to the larger of 1 and the pixel.
 pub fn max_relative_difference(a: &RgbImage, b: &RgbImage) -> f32 {
     a.pixels
